@@ -1,0 +1,122 @@
+//! Shapes, their mass properties (SPEC §2), and the per-body state.
+
+use glam::{DQuat, DVec3};
+
+/// A rigid body's shape. The fibre's symmetry axis is body x (the paper's `B`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Shape {
+    /// Solid flat-ended cylinder.
+    Fibre {
+        diameter: f64,
+        length: f64,
+    },
+    Sphere {
+        diameter: f64,
+    },
+}
+
+impl Shape {
+    pub fn volume(&self) -> f64 {
+        use std::f64::consts::PI;
+        match *self {
+            Shape::Fibre { diameter, length } => PI * diameter * diameter * length / 4.0,
+            Shape::Sphere { diameter } => PI * diameter.powi(3) / 6.0,
+        }
+    }
+
+    /// Principal moments of inertia per unit mass, body frame.
+    fn inertia_per_mass(&self) -> DVec3 {
+        match *self {
+            Shape::Fibre { diameter, length } => {
+                let r = 0.5 * diameter;
+                let axial = r * r / 2.0;
+                let transverse = (3.0 * r * r + length * length) / 12.0;
+                DVec3::new(axial, transverse, transverse)
+            }
+            Shape::Sphere { diameter } => DVec3::splat(0.4 * (0.5 * diameter).powi(2)),
+        }
+    }
+
+    /// Radius of the smallest sphere about the centre of mass that holds the body.
+    pub fn bounding_radius(&self) -> f64 {
+        match *self {
+            Shape::Fibre { diameter, length } => {
+                0.5 * (diameter * diameter + length * length).sqrt()
+            }
+            Shape::Sphere { diameter } => 0.5 * diameter,
+        }
+    }
+}
+
+/// Principal inertia (diagonal in the body frame) and its inverse.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Inertia {
+    pub principal: DVec3,
+    pub inverse: DVec3,
+}
+
+impl Inertia {
+    pub fn new(principal: DVec3) -> Self {
+        Inertia {
+            principal,
+            inverse: principal.recip(),
+        }
+    }
+
+    /// Euler's equations in the body frame, paper Eq. 4:
+    /// `dω_b/dt = I⁻¹ (τ_b − ω_b × I ω_b)`.
+    #[inline]
+    pub fn angular_acceleration(&self, omega_b: DVec3, torque_b: DVec3) -> DVec3 {
+        self.inverse * (torque_b - omega_b.cross(self.principal * omega_b))
+    }
+
+    /// Rotational kinetic energy `½ ω_b · I ω_b`.
+    #[inline]
+    pub fn kinetic_energy(&self, omega_b: DVec3) -> f64 {
+        0.5 * omega_b.dot(self.principal * omega_b)
+    }
+}
+
+/// Constant properties of one body.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Body {
+    pub name: String,
+    pub shape: Shape,
+    pub density: f64,
+    /// Young's modulus and Poisson ratio (used only by contacts).
+    pub young: f64,
+    pub poisson: f64,
+    pub mass: f64,
+    pub inertia: Inertia,
+}
+
+impl Body {
+    pub fn new(name: String, shape: Shape, density: f64, young: f64, poisson: f64) -> Self {
+        let mass = density * shape.volume();
+        Body {
+            name,
+            shape,
+            density,
+            young,
+            poisson,
+            mass,
+            inertia: Inertia::new(mass * shape.inertia_per_mass()),
+        }
+    }
+}
+
+/// Rotational state advanced by a rotator: orientation (body → world) and the
+/// body-frame angular velocity.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RotState {
+    pub q: DQuat,
+    pub omega_b: DVec3,
+}
+
+/// Full kinematic state of one body.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyState {
+    pub x: DVec3,
+    pub v: DVec3,
+    pub rot: RotState,
+}

@@ -1,0 +1,91 @@
+//! One error type for the whole program, split by what the user must do about it.
+//!
+//! Exit codes (documented in the README): 2 = bad input (fix the scenario or the
+//! flags), 3 = the run became unstable and was stopped (see the diagnosis),
+//! 1 = anything else (I/O failure while writing results).
+
+use std::path::PathBuf;
+
+/// A named, early stop of a run that would otherwise produce garbage.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Diagnosis {
+    /// What went wrong, e.g. `"scalar-factor singularity"`.
+    pub kind: String,
+    pub step: u64,
+    pub t: f64,
+    /// Index of the body concerned, if one is.
+    pub body: Option<usize>,
+    /// The quantity that crossed its limit, e.g. `"|omega| dt / 2"`.
+    pub quantity: String,
+    pub value: f64,
+    pub limit: f64,
+}
+
+impl std::fmt::Display for Diagnosis {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} at step {} (t = {:e} s)",
+            self.kind, self.step, self.t
+        )?;
+        if let Some(b) = self.body {
+            write!(f, ", body {b}")?;
+        }
+        write!(
+            f,
+            ": {} = {:e} exceeds the limit {:e}",
+            self.quantity, self.value, self.limit
+        )
+    }
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The scenario file or the command line is wrong. `file` and `key` locate it.
+    #[error("{file}: {key}: {message}")]
+    BadInput {
+        file: String,
+        key: String,
+        message: String,
+    },
+    /// The run was stopped because it stopped being trustworthy.
+    #[error("run stopped: {0}")]
+    Unstable(Diagnosis),
+    #[error("cannot write {path}: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+}
+
+impl Error {
+    pub fn bad(
+        file: impl Into<String>,
+        key: impl Into<String>,
+        message: impl Into<String>,
+    ) -> Self {
+        Error::BadInput {
+            file: file.into(),
+            key: key.into(),
+            message: message.into(),
+        }
+    }
+
+    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        Error::Io {
+            path: path.into(),
+            source,
+        }
+    }
+
+    /// The process exit code for this error (README, "Exit codes").
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            Error::BadInput { .. } => 2,
+            Error::Unstable(_) => 3,
+            Error::Io { .. } => 1,
+        }
+    }
+}
+
+pub type Result<T> = std::result::Result<T, Error>;

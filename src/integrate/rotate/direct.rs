@@ -1,0 +1,40 @@
+//! Direct multiplication, paper Eq. 49–50 (Whitmore; Karney; Betsch & Siebert).
+//!
+//! `q_{n+1} = exp(ω_n δt) q_n` with `exp` the unit quaternion
+//! `[cos(‖ω‖δt/2), sin(‖ω‖δt/2) ω̂]` (Eq. 49; the paper's Eq. 48 misplaces δt) and
+//! the world `ω_n = q_n ω_b q_n*`; `ω_b` by explicit Euler on Eq. 4 with the torque
+//! at `(t_n, q_n)`. No renormalisation: the product of unit quaternions is unit up
+//! to rounding. First order (the angular velocity is first order).
+
+use super::{Rotator, RotatorFault, RotatorInfo};
+use crate::body::{Inertia, RotState};
+use crate::math::{exp_map, to_body};
+use glam::{DQuat, DVec3};
+
+pub struct Direct;
+
+impl Rotator for Direct {
+    const INFO: RotatorInfo = RotatorInfo {
+        name: "direct",
+        equations: "Eq. 49-50",
+        order: 1,
+        torque_evals: 1,
+        torque_contract: "torque at (t_n, q_n)",
+        kick_drift_kick: false,
+    };
+
+    #[inline]
+    fn advance<T: Fn(f64, DQuat) -> DVec3>(
+        rot: &mut RotState,
+        inertia: &Inertia,
+        torque: T,
+        t_n: f64,
+        dt: f64,
+    ) -> Result<(), RotatorFault> {
+        let q = rot.q;
+        let alpha = inertia.angular_acceleration(rot.omega_b, to_body(q, torque(t_n, q)));
+        rot.q = exp_map((q * rot.omega_b) * dt) * q;
+        rot.omega_b += dt * alpha;
+        Ok(())
+    }
+}

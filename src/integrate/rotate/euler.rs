@@ -1,0 +1,42 @@
+//! Euler method, paper Eq. 31–32.
+//!
+//! `q_{n+1} = normalise(q_n + ½ ω_n q_n δt)` with the world angular velocity
+//! `ω_n = q_n ω_b q_n*`; `ω_b` by explicit Euler on Eq. 4 with the torque at
+//! `(t_n, q_n)`. The renormalisation (Eq. 32) is part of the scheme as the paper
+//! defines it: the Taylor step leaves the unit sphere by `O((‖ω‖δt)²)`.
+//! First order.
+
+use super::{Rotator, RotatorFault, RotatorInfo};
+use crate::body::{Inertia, RotState};
+use crate::math::{pure, to_body};
+use glam::{DQuat, DVec3};
+
+pub struct Euler;
+
+impl Rotator for Euler {
+    const INFO: RotatorInfo = RotatorInfo {
+        name: "euler",
+        equations: "Eq. 31-32",
+        order: 1,
+        torque_evals: 1,
+        torque_contract: "torque at (t_n, q_n)",
+        kick_drift_kick: false,
+    };
+
+    #[inline]
+    fn advance<T: Fn(f64, DQuat) -> DVec3>(
+        rot: &mut RotState,
+        inertia: &Inertia,
+        torque: T,
+        t_n: f64,
+        dt: f64,
+    ) -> Result<(), RotatorFault> {
+        let q = rot.q;
+        let alpha = inertia.angular_acceleration(rot.omega_b, to_body(q, torque(t_n, q)));
+        let omega_w = q * rot.omega_b;
+        // Eq. 31, then Eq. 32 (the scheme's own renormalisation).
+        rot.q = (q + pure(omega_w) * q * (0.5 * dt)).normalize();
+        rot.omega_b += dt * alpha;
+        Ok(())
+    }
+}

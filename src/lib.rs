@@ -1,0 +1,24 @@
+//! fibresim: a DEM simulator for frictionless, elastic (Hertzian) rigid cylindrical
+//! fibres, built to compare quaternion rotation integrators (Zhao & van Wachem 2013).
+//!
+//! Conventions (SPEC §1):
+//! - SI units everywhere; gravity along −z by default; the box floor is z = 0.
+//! - Unit quaternions `q = [w, x, y, z]`, Hamilton product (paper Eq. 14), scalar
+//!   first in every file fibresim reads or writes (glam stores them `xyzw` in memory).
+//! - `q` maps body to world: `v_world = q v_body q*`.
+//!   Kinematics `dq/dt = ½ ω_world ⊗ q = ½ q ⊗ ω_body`.
+//! - The time of step `n` is `t_n = n·δt`, computed by multiplication.
+//!
+//! Data flows one way: [`scenario`] (raw TOML → checked [`scenario::Scene`]) →
+//! [`integrate`] (the fixed step sequence) → [`output`] (observers).
+
+pub mod body;
+pub mod cli;
+pub mod energy;
+pub mod error;
+pub mod integrate;
+pub mod math;
+pub mod output;
+pub mod run;
+pub mod scenario;
+pub mod torque;

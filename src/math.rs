@@ -1,0 +1,70 @@
+//! Quaternion toolkit over glam f64 types (paper §2.3–2.4).
+//!
+//! glam's `DQuat` product is the Hamilton product (Eq. 14); `q * v` for a unit
+//! `q` is the rotation `q v q*` (Eq. 16).
+
+use glam::{DMat3, DQuat, DVec3};
+
+/// Quaternion from scalar-first components `[w, x, y, z]` (file order).
+pub fn quat_wxyz(c: [f64; 4]) -> DQuat {
+    DQuat::from_xyzw(c[1], c[2], c[3], c[0])
+}
+
+/// Scalar-first components `[w, x, y, z]` (file order).
+pub fn wxyz(q: DQuat) -> [f64; 4] {
+    [q.w, q.x, q.y, q.z]
+}
+
+/// The pure quaternion `[0, v]`.
+pub fn pure(v: DVec3) -> DQuat {
+    DQuat::from_xyzw(v.x, v.y, v.z, 0.0)
+}
+
+/// Rotate a body-frame vector into the world frame, `q v q*` (Eq. 16).
+#[inline]
+pub fn to_world(q: DQuat, v_body: DVec3) -> DVec3 {
+    q * v_body
+}
+
+/// Rotate a world-frame vector into the body frame, `q* v q`.
+#[inline]
+pub fn to_body(q: DQuat, v_world: DVec3) -> DVec3 {
+    q.conjugate() * v_world
+}
+
+/// Transform a second-order tensor with quaternions only, paper Eq. 29:
+/// `l' = (q (q l q⁻¹)ᵀ q⁻¹)ᵀ`, where `q l q⁻¹` rotates each column (Eq. 24).
+/// Equal to `R l Rᵀ` (Eq. 7); tested against it.
+pub fn rotate_tensor(q: DQuat, l: DMat3) -> DMat3 {
+    let rotate_columns = |m: DMat3| DMat3::from_cols(q * m.x_axis, q * m.y_axis, q * m.z_axis);
+    rotate_columns(rotate_columns(l).transpose()).transpose()
+}
+
+/// Exponential map: the unit quaternion of a rotation by angle `|r|` about `r̂`,
+/// `[cos(|r|/2), sin(|r|/2) r̂]` (Eq. 49 with `r = ω δt`). Exactly unit up to
+/// rounding; uses a series for tiny angles so `r → 0` loses no digits.
+#[inline]
+pub fn exp_map(r: DVec3) -> DQuat {
+    let angle = r.length();
+    let half = 0.5 * angle;
+    // sin(half)/angle, the factor multiplying r.
+    let k = if half < 1e-4 {
+        0.5 * (1.0 - half * half / 6.0)
+    } else {
+        half.sin() / angle
+    };
+    DQuat::from_xyzw(k * r.x, k * r.y, k * r.z, half.cos())
+}
+
+/// Geodesic angle between two orientations, `2 acos|a·b|`, in radians, in `[0, π]`.
+/// Computed as `2 atan2(|vec(a* b)|, |scalar(a* b)|)`, which keeps full relative
+/// precision for tiny angles where `acos` near 1 would lose half the digits.
+pub fn geodesic_angle(a: DQuat, b: DQuat) -> f64 {
+    let d = a.conjugate() * b;
+    2.0 * DVec3::new(d.x, d.y, d.z).length().atan2(d.w.abs())
+}
+
+/// Angle between two vectors, robust for tiny and near-π angles.
+pub fn angle_between(a: DVec3, b: DVec3) -> f64 {
+    a.cross(b).length().atan2(a.dot(b))
+}

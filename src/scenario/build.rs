@@ -1,0 +1,492 @@
+//! Validate a parsed [`ScenarioFile`] once into a ready-to-run [`Scene`]
+//! (ripgrep's "raw args → checked objects"). Only what the scene declares is
+//! built: no walls without `[box]`, no gravity without `world.gravity`, no
+//! contact search for a single body without walls (SPEC §7).
+
+use super::file::{BodySection, ReferenceSection, ScenarioFile, ShapeName};
+use crate::body::{Body, BodyState, RotState, Shape};
+use crate::error::{Error, Result};
+use crate::integrate::rotate::RotatorKind;
+use crate::torque::PrescribedTorque;
+use glam::{DQuat, DVec3};
+use std::path::Path;
+
+/// Numerical parameters of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimParams {
+    pub dt: f64,
+    pub steps: u64,
+    pub rotator: RotatorKind,
+    /// Output cadence; `None` = the default (at most ~1e5 rows).
+    pub every: Option<u64>,
+}
+
+impl SimParams {
+    /// Check `dt`, `t_end` and `every`; `prefix` names where they came from in
+    /// messages (`"simulation."` for the file, `"--"` for flags).
+    pub fn new(
+        dt: f64,
+        t_end: f64,
+        rotator: RotatorKind,
+        every: Option<u64>,
+        src: &str,
+        prefix: &str,
+    ) -> Result<Self> {
+        let cx = Ctx { src };
+        let dt = cx.positive(&format!("{prefix}dt"), dt)?;
+        let key_t = format!("{prefix}t_end");
+        let t_end = cx.positive(&key_t, t_end)?;
+        if dt > t_end {
+            return Err(cx.err(
+                &format!("{prefix}dt"),
+                format!("dt = {dt:e} s is larger than t_end = {t_end:e} s; choose dt <= t_end"),
+            ));
+        }
+        let ratio = t_end / dt;
+        let steps = ratio.round();
+        if (ratio - steps).abs() > 1e-6 * ratio.max(1.0) {
+            return Err(cx.err(
+                &key_t,
+                format!("t_end = {t_end:e} s is not a whole number of steps of dt = {dt:e} s ({ratio} steps); adjust one of them"),
+            ));
+        }
+        if steps > 1e12 {
+            return Err(cx.err(
+                &key_t,
+                format!(
+                    "{steps:e} steps is more than fibresim will run; increase dt or reduce t_end"
+                ),
+            ));
+        }
+        if every == Some(0) {
+            return Err(cx.err(
+                &format!("{prefix}every"),
+                "must be >= 1 (one output row per `every` steps)",
+            ));
+        }
+        Ok(SimParams {
+            dt,
+            steps: steps as u64,
+            rotator,
+            every,
+        })
+    }
+
+    pub fn t_end(&self) -> f64 {
+        self.steps as f64 * self.dt
+    }
+}
+
+/// The six walls of an axis-aligned box, with their elastic constants.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Walls {
+    pub min: DVec3,
+    pub max: DVec3,
+    pub young: f64,
+    pub poisson: f64,
+}
+
+/// A closed-form orientation the scene declares (see `file::ReferenceSection`).
+#[derive(Debug, Clone, PartialEq)]
+pub enum ClosedForm {
+    /// Sphere of inertia `i` at rest under `τ = A e^{Ct} â`.
+    ExpTorqueSphere {
+        axis: DVec3,
+        a: f64,
+        c: f64,
+        inertia: f64,
+    },
+}
+
+impl ClosedForm {
+    /// Reference orientation at time `t` (body 0).
+    pub fn orientation(&self, t: f64, q0: DQuat) -> DQuat {
+        match *self {
+            ClosedForm::ExpTorqueSphere {
+                axis,
+                a,
+                c,
+                inertia,
+            } => {
+                let theta = a * ((c * t).exp() - 1.0 - c * t) / (inertia * c * c);
+                DQuat::from_axis_angle(axis, theta) * q0
+            }
+        }
+    }
+}
+
+/// A checked scene, ready to run.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// Where it came from (a path, or `<built-in>`), for messages.
+    pub source: String,
+    pub sim: SimParams,
+    pub bodies: Vec<Body>,
+    pub initial: Vec<BodyState>,
+    /// Prescribed world torque per body (`None` = no prescribed torque).
+    pub torques: Vec<Option<PrescribedTorque>>,
+    pub gravity: Option<DVec3>,
+    pub walls: Option<Walls>,
+    pub reference: Option<ClosedForm>,
+}
+
+impl Scene {
+    /// Contacts are needed when bodies can touch something: walls or each other.
+    pub fn needs_contacts(&self) -> bool {
+        self.walls.is_some() || self.bodies.len() > 1
+    }
+
+    pub fn has_prescribed_torque(&self) -> bool {
+        self.torques.iter().any(Option::is_some)
+    }
+}
+
+/// Read and validate a scenario file.
+pub fn load(path: &Path) -> Result<Scene> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Error::bad(&file, "-", format!("cannot read the scenario file: {e}")))?;
+    parse_str(&text, &file)
+}
+
+/// Parse and validate scenario text; `source` names it in error messages.
+pub fn parse_str(text: &str, source: &str) -> Result<Scene> {
+    let raw: ScenarioFile = toml::from_str(text).map_err(|e| {
+        // toml's message carries the line, column and offending key.
+        let msg = e.to_string();
+        let msg = msg.trim_end().replace('\n', "\n  ");
+        Error::bad(source, "TOML", msg)
+    })?;
+    build(raw, source)
+}
+
+struct Ctx<'a> {
+    src: &'a str,
+}
+
+impl Ctx<'_> {
+    fn err(&self, key: &str, msg: impl Into<String>) -> Error {
+        Error::bad(self.src, key, msg)
+    }
+
+    fn positive(&self, key: &str, v: f64) -> Result<f64> {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(self.err(key, format!("must be a finite number > 0, got {v}")))
+        }
+    }
+
+    fn finite3(&self, key: &str, v: [f64; 3]) -> Result<DVec3> {
+        if v.iter().all(|x| x.is_finite()) {
+            Ok(DVec3::from_array(v))
+        } else {
+            Err(self.err(key, format!("must be three finite numbers, got {v:?}")))
+        }
+    }
+
+    fn poisson(&self, key: &str, v: f64) -> Result<f64> {
+        if v.is_finite() && v > -1.0 && v < 0.5 {
+            Ok(v)
+        } else {
+            Err(self.err(
+                key,
+                format!("Poisson's ratio must lie in (-1, 0.5), got {v}"),
+            ))
+        }
+    }
+}
+
+fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
+    let cx = Ctx { src };
+    let s = &raw.simulation;
+    let rotator = match &s.rotator {
+        None => RotatorKind::Pcdm,
+        Some(name) => RotatorKind::from_name(name).ok_or_else(|| {
+            let names: Vec<&str> = RotatorKind::ALL.iter().map(|k| k.name()).collect();
+            cx.err(
+                "simulation.rotator",
+                format!(
+                    "unknown rotator `{name}`; choose one of {}",
+                    names.join(", ")
+                ),
+            )
+        })?,
+    };
+    let sim = SimParams::new(s.dt, s.t_end, rotator, s.every, src, "simulation.")?;
+    let gravity = match raw.world.gravity {
+        Some(g) => Some(cx.finite3("world.gravity", g)?),
+        None => None,
+    };
+    let walls = match &raw.walls {
+        Some(b) => {
+            let min = cx.finite3("box.min", b.min)?;
+            let max = cx.finite3("box.max", b.max)?;
+            if !(min.cmplt(max).all()) {
+                return Err(cx.err(
+                    "box",
+                    format!("box.min {min} must be below box.max {max} on every axis"),
+                ));
+            }
+            Some(Walls {
+                min,
+                max,
+                young: cx.positive("box.young", b.young)?,
+                poisson: cx.poisson("box.poisson", b.poisson)?,
+            })
+        }
+        None => None,
+    };
+
+    if raw.body.is_empty() {
+        return Err(cx.err(
+            "body",
+            "the scene has no bodies; add at least one [[body]] table",
+        ));
+    }
+    let needs_contacts = walls.is_some() || raw.body.len() > 1;
+    let mut bodies = Vec::with_capacity(raw.body.len());
+    let mut initial = Vec::with_capacity(raw.body.len());
+    let mut torques = Vec::with_capacity(raw.body.len());
+    for (i, b) in raw.body.iter().enumerate() {
+        let (body, state, torque) = build_body(&cx, &raw, i, b, needs_contacts)?;
+        bodies.push(body);
+        initial.push(state);
+        torques.push(torque);
+    }
+
+    if let Some(w) = &walls {
+        for (i, (b, st)) in bodies.iter().zip(&initial).enumerate() {
+            let (lo, hi) = aabb(&b.shape, st);
+            if lo.cmplt(w.min).any() || hi.cmpgt(w.max).any() {
+                return Err(cx.err(
+                    &format!("body[{i}].position"),
+                    format!(
+                        "body `{}` (bounds {lo} .. {hi}) does not fit inside the box {} .. {}; move it inside",
+                        b.name, w.min, w.max
+                    ),
+                ));
+            }
+        }
+    }
+
+    let reference = match &raw.reference {
+        Some(r) => Some(build_reference(&cx, r, &bodies, &initial, &torques)?),
+        None => None,
+    };
+
+    Ok(Scene {
+        source: src.to_string(),
+        sim,
+        bodies,
+        initial,
+        torques,
+        gravity,
+        walls,
+        reference,
+    })
+}
+
+/// Exact axis-aligned bounds of a body.
+pub fn aabb(shape: &Shape, st: &BodyState) -> (DVec3, DVec3) {
+    let half = match *shape {
+        Shape::Sphere { diameter } => DVec3::splat(0.5 * diameter),
+        Shape::Fibre { diameter, length } => {
+            let a = st.rot.q * DVec3::X;
+            let r = 0.5 * diameter;
+            let sin = (DVec3::ONE - a * a).max(DVec3::ZERO);
+            0.5 * length * a.abs() + r * DVec3::new(sin.x.sqrt(), sin.y.sqrt(), sin.z.sqrt())
+        }
+    };
+    (st.x - half, st.x + half)
+}
+
+fn build_body(
+    cx: &Ctx,
+    raw: &ScenarioFile,
+    i: usize,
+    b: &BodySection,
+    needs_contacts: bool,
+) -> Result<(Body, BodyState, Option<PrescribedTorque>)> {
+    let key = |k: &str| format!("body[{i}].{k}");
+    let name = b.name.clone().unwrap_or_else(|| format!("body{i}"));
+    let diameter = cx.positive(&key("diameter"), b.diameter)?;
+    let shape = match (b.shape, b.length) {
+        (ShapeName::Fibre, Some(l)) => Shape::Fibre {
+            diameter,
+            length: cx.positive(&key("length"), l)?,
+        },
+        (ShapeName::Fibre, None) => {
+            return Err(cx.err(&key("length"), "a fibre needs `length` (m)"))
+        }
+        (ShapeName::Sphere, None) => Shape::Sphere { diameter },
+        (ShapeName::Sphere, Some(_)) => {
+            return Err(cx.err(
+                &key("length"),
+                "a sphere has no `length`; remove it or use shape = \"fibre\"",
+            ))
+        }
+    };
+    if needs_contacts && matches!(shape, Shape::Sphere { .. }) {
+        return Err(cx.err(
+            &key("shape"),
+            "spheres are supported only in contact-free scenes (one body, no [box]); use fibres",
+        ));
+    }
+
+    // Material: a named table or inline values, not both.
+    let (density, young, poisson) = match &b.material {
+        Some(m) => {
+            if b.density.is_some() || b.young.is_some() || b.poisson.is_some() {
+                return Err(cx.err(
+                    &key("material"),
+                    "give either `material` or inline density/young/poisson, not both",
+                ));
+            }
+            let mat = raw.material.get(m).ok_or_else(|| {
+                let known: Vec<&String> = raw.material.keys().collect();
+                cx.err(
+                    &key("material"),
+                    format!("unknown material `{m}`; defined: {known:?}"),
+                )
+            })?;
+            (mat.density, mat.young, mat.poisson)
+        }
+        None => (
+            b.density
+                .ok_or_else(|| cx.err(&key("density"), "give `density` (kg/m^3) or `material`"))?,
+            b.young,
+            b.poisson,
+        ),
+    };
+    let density = cx.positive(&key("density"), density)?;
+    let (young, poisson) = if needs_contacts {
+        let e = young.ok_or_else(|| {
+            cx.err(
+                &key("young"),
+                "bodies that can touch need Young's modulus `young` (Pa)",
+            )
+        })?;
+        let nu = poisson.ok_or_else(|| {
+            cx.err(
+                &key("poisson"),
+                "bodies that can touch need Poisson's ratio `poisson`",
+            )
+        })?;
+        (
+            cx.positive(&key("young"), e)?,
+            cx.poisson(&key("poisson"), nu)?,
+        )
+    } else {
+        (young.unwrap_or(f64::NAN), poisson.unwrap_or(f64::NAN))
+    };
+
+    let q = match (b.axis, b.quaternion) {
+        (Some(_), Some(_)) => {
+            return Err(cx.err(&key("axis"), "give either `axis` or `quaternion`, not both"))
+        }
+        (Some(a), None) => {
+            let a = cx.finite3(&key("axis"), a)?;
+            if a.length() < 1e-12 {
+                return Err(cx.err(&key("axis"), "the axis direction must be non-zero"));
+            }
+            DQuat::from_rotation_arc(DVec3::X, a.normalize())
+        }
+        (None, Some(c)) => {
+            let q = crate::math::quat_wxyz(c);
+            let n = q.length();
+            if !n.is_finite() || (n - 1.0).abs() > 1e-6 {
+                return Err(cx.err(
+                    &key("quaternion"),
+                    format!("must be a unit quaternion [w, x, y, z] (norm {n}); normalise it"),
+                ));
+            }
+            // Only input rounding (< 1e-6) is removed here.
+            q.normalize()
+        }
+        (None, None) => DQuat::IDENTITY,
+    };
+    let x = cx.finite3(&key("position"), b.position)?;
+    let v = cx.finite3(&key("velocity"), b.velocity)?;
+    let omega_w = cx.finite3(&key("angular_velocity"), b.angular_velocity)?;
+    let torque = match &b.torque {
+        Some(t) => {
+            let texts = [t[0].text(), t[1].text(), t[2].text()];
+            Some(
+                PrescribedTorque::parse(&texts)
+                    .map_err(|(c, msg)| cx.err(&key(&format!("torque[{c}]")), msg))?,
+            )
+        }
+        None => None,
+    };
+    let body = Body::new(name, shape, density, young, poisson);
+    let state = BodyState {
+        x,
+        v,
+        rot: RotState {
+            q,
+            omega_b: q.conjugate() * omega_w,
+        },
+    };
+    Ok((body, state, torque))
+}
+
+fn build_reference(
+    cx: &Ctx,
+    r: &ReferenceSection,
+    bodies: &[Body],
+    initial: &[BodyState],
+    torques: &[Option<PrescribedTorque>],
+) -> Result<ClosedForm> {
+    if r.closed_form != "exp-torque-sphere" {
+        return Err(cx.err(
+            "reference.closed_form",
+            format!(
+                "unknown closed form `{}`; known: exp-torque-sphere",
+                r.closed_form
+            ),
+        ));
+    }
+    let axis = cx.finite3("reference.axis", r.axis)?;
+    if axis.length() < 1e-12 || !r.a.is_finite() || !r.c.is_finite() || r.c == 0.0 {
+        return Err(cx.err(
+            "reference",
+            "needs a non-zero axis, finite a and a non-zero finite c",
+        ));
+    }
+    let axis = axis.normalize();
+    let ok_body = bodies.len() == 1
+        && matches!(bodies[0].shape, Shape::Sphere { .. })
+        && initial[0].rot.omega_b == DVec3::ZERO;
+    if !ok_body {
+        return Err(cx.err(
+            "reference",
+            "exp-torque-sphere needs exactly one sphere, initially at rest",
+        ));
+    }
+    // The declared closed form must describe the declared torque: check it.
+    let torque = torques[0].as_ref().ok_or_else(|| {
+        cx.err(
+            "reference",
+            "exp-torque-sphere needs a prescribed torque on the sphere",
+        )
+    })?;
+    for t in [0.0, 0.37, 1.0] {
+        let want = r.a * (r.c * t).exp() * axis;
+        let got = torque.at(t);
+        if (got - want).length() > 1e-9 * want.length().max(1e-300) {
+            return Err(cx.err(
+                "reference",
+                format!(
+                    "the body's torque at t = {t} is {got}, but the closed form assumes {want}"
+                ),
+            ));
+        }
+    }
+    Ok(ClosedForm::ExpTorqueSphere {
+        axis,
+        a: r.a,
+        c: r.c,
+        inertia: bodies[0].inertia.principal.x,
+    })
+}

@@ -1,0 +1,7 @@
+//! Scenario files: the raw TOML mirror ([`file`]) and its validation into a
+//! ready-to-run [`Scene`] ([`build`]). Every check happens here, once.
+
+pub mod build;
+pub mod file;
+
+pub use build::{load, parse_str, ClosedForm, Scene, SimParams, Walls};

@@ -1,0 +1,74 @@
+//! Prescribed world-frame torques as functions of time (test cases 3 and 4).
+//!
+//! Each component is a constant or an expression in `t` (seconds) compiled once
+//! ([`Expr`]), e.g. `"5e-4*sin(200*pi*t)"`, `"1e-5*exp(3+24*t)"`, `"1e-5*5^(52*t)"`.
+//! Cost per evaluation is measured in `benches/rotators.rs` and quoted in the README.
+
+mod expr;
+
+pub use expr::Expr;
+use glam::DVec3;
+
+/// One compiled component; a constant is kept apart so `0` costs nothing.
+#[derive(Debug, Clone)]
+enum Component {
+    Const(f64),
+    Expr(Expr),
+}
+
+impl Component {
+    fn parse(text: &str) -> Result<Self, String> {
+        let c = match Expr::parse(text).map_err(|e| format!("cannot compile `{text}`: {e}"))? {
+            Expr::Const(c) => Component::Const(c),
+            e => Component::Expr(e),
+        };
+        // Reject expressions that are not finite at t = 0 right away (e.g. `1/t`).
+        let v0 = c.eval(0.0);
+        if !v0.is_finite() {
+            return Err(format!("`{text}` is not finite at t = 0 (value {v0})"));
+        }
+        Ok(c)
+    }
+
+    #[inline]
+    fn eval(&self, t: f64) -> f64 {
+        match self {
+            Component::Const(c) => *c,
+            Component::Expr(e) => e.eval(t),
+        }
+    }
+}
+
+/// A world-frame torque `τ(t)` given component-wise.
+#[derive(Debug, Clone)]
+pub struct PrescribedTorque {
+    comps: [Component; 3],
+    text: [String; 3],
+}
+
+impl PrescribedTorque {
+    /// Compile the three components; the error names the failing component.
+    pub fn parse(components: &[String; 3]) -> Result<Self, (usize, String)> {
+        let c0 = Component::parse(&components[0]).map_err(|e| (0, e))?;
+        let c1 = Component::parse(&components[1]).map_err(|e| (1, e))?;
+        let c2 = Component::parse(&components[2]).map_err(|e| (2, e))?;
+        Ok(PrescribedTorque {
+            comps: [c0, c1, c2],
+            text: components.clone(),
+        })
+    }
+
+    /// World torque at time `t`.
+    #[inline]
+    pub fn at(&self, t: f64) -> DVec3 {
+        DVec3::new(
+            self.comps[0].eval(t),
+            self.comps[1].eval(t),
+            self.comps[2].eval(t),
+        )
+    }
+
+    pub fn text(&self) -> &[String; 3] {
+        &self.text
+    }
+}

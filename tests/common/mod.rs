@@ -1,0 +1,37 @@
+//! Shared helpers for the integration tests.
+#![allow(dead_code)]
+
+use fibresim::body::BodyState;
+use fibresim::integrate::rotate::RotatorKind;
+use fibresim::math::geodesic_angle;
+use fibresim::scenario::{self, Scene};
+
+pub fn scene_file(name: &str) -> Scene {
+    let path = format!("{}/scenarios/{name}", env!("CARGO_MANIFEST_DIR"));
+    scenario::load(std::path::Path::new(&path)).expect("shipped scenario loads")
+}
+
+pub fn scene_str(text: &str) -> Scene {
+    scenario::parse_str(text, "<test>").expect("test scenario is valid")
+}
+
+pub fn final_state(scene: &Scene, kind: RotatorKind, dt: f64) -> BodyState {
+    fibresim::run::integrate(scene, kind, dt).expect("run completes")[0]
+}
+
+/// Least-squares slope of log(err) against log(dt).
+pub fn fitted_order(dts: &[f64], errs: &[f64]) -> f64 {
+    let xs: Vec<f64> = dts.iter().map(|d| d.ln()).collect();
+    let ys: Vec<f64> = errs.iter().map(|e| e.ln()).collect();
+    let n = xs.len() as f64;
+    let mx = xs.iter().sum::<f64>() / n;
+    let my = ys.iter().sum::<f64>() / n;
+    let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
+    sxy / sxx
+}
+
+/// Orientation error at the end time: geodesic angle to a reference state.
+pub fn angle_error(a: &BodyState, b: &BodyState) -> f64 {
+    geodesic_angle(a.rot.q, b.rot.q)
+}
