@@ -1,1 +1,80 @@
-fn main() {}
+//! ns per body-step of each rotator on test case 4 (issue 2, item 8).
+//!
+//! Three figures per rotator: the whole `World::step` with the paper's torque
+//! (what a run pays), and with a zero torque (the rotator's own arithmetic plus
+//! the step's bookkeeping). `torque_eval/tc4` is one evaluation of the three
+//! compiled torque components.
+//! Run: `cargo bench --bench rotators`.
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use fibresim::integrate::rotate::RotatorKind;
+use fibresim::integrate::step::World;
+use fibresim::scenario::{self, Scene};
+use fibresim::with_rotator;
+use std::hint::black_box;
+use std::time::{Duration, Instant};
+
+fn tc4(zero_torque: bool) -> Scene {
+    let text = include_str!("../scenarios/torque_fibre.toml");
+    let text = if zero_torque {
+        text.replace(
+            r#"torque = ["5e-4*sin(200*pi*t)", "1e-5*exp(3+24*t)", "1e-5*5^(52*t)"]"#,
+            r#"torque = ["0", "0", "0"]"#,
+        )
+    } else {
+        text.to_string()
+    };
+    let mut s = scenario::parse_str(&text, "tc4").unwrap();
+    s.sim.dt = 1e-7;
+    s
+}
+
+/// Time `iters` steps, restarting from t = 0 every 1e6 steps (T = 0.1 s).
+fn time_steps(scene: &Scene, kind: RotatorKind, iters: u64) -> Duration {
+    let mut total = Duration::ZERO;
+    let mut left = iters;
+    while left > 0 {
+        let n = left.min(1_000_000);
+        let mut w = World::new(scene);
+        let start = Instant::now();
+        with_rotator!(kind, R => {
+            for _ in 0..n {
+                let _ = black_box(w.step::<R>());
+            }
+        });
+        total += start.elapsed();
+        black_box(&w.states);
+        left -= n;
+    }
+    total
+}
+
+fn bench(c: &mut Criterion) {
+    let mut g = c.benchmark_group("body_step");
+    for (label, zero) in [("tc4", false), ("zero_torque", true)] {
+        let scene = tc4(zero);
+        for kind in RotatorKind::ALL {
+            g.bench_function(format!("{}/{label}", kind.name()), |b| {
+                b.iter_custom(|iters| time_steps(&scene, kind, iters))
+            });
+        }
+    }
+    g.finish();
+
+    let scene = tc4(false);
+    let torque = scene.torques[0].clone().unwrap();
+    c.bench_function("torque_eval/tc4", |b| {
+        let mut t = 0.0;
+        b.iter(|| {
+            t += 1e-9;
+            black_box(torque.at(black_box(t)))
+        })
+    });
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(2));
+    targets = bench
+}
+criterion_main!(benches);

@@ -40,7 +40,7 @@ pub struct RunArgs {
     /// Output folder [default: out/<scenario>/<rotator>].
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Write one output row every N steps [default: at most ~1e5 rows].
+    /// Write one output row every N steps [default: at most 2e4 rows; every row also carries the largest error since the previous row].
     #[arg(long)]
     pub every: Option<u64>,
     /// No progress bar and no summary on stdout.

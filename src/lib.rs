@@ -19,6 +19,7 @@ pub mod error;
 pub mod integrate;
 pub mod math;
 pub mod output;
+pub mod plot;
 pub mod run;
 pub mod scenario;
 pub mod torque;

@@ -1,0 +1,327 @@
+use std::path::PathBuf;
+use std::time::Instant;
+
+use fibresim::plot::{reference_slope, render, Chart, LegendPos, PlotError, Series, Style};
+
+fn out(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("plot-tests");
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// Energy error vs time for three integrators, 1e5 points each, with spikes.
+fn energy_chart(n: usize) -> Chart {
+    let t: Vec<f64> = (0..n).map(|i| i as f64 * 1e-4).collect();
+    let mut chart = Chart::new(
+        "Relative energy error vs time",
+        "time t (s)",
+        "relative energy error |ΔE/E₀| (–)",
+    );
+    chart.log_y = true;
+    for (k, name) in ["explicit Euler", "Omelyan leapfrog", "RK4 (normalised)"]
+        .iter()
+        .enumerate()
+    {
+        let scale = 10f64.powi(-(2 * k as i32) - 3);
+        let y = t
+            .iter()
+            .enumerate()
+            .map(|(i, &ti)| {
+                let spike = if i % 20_011 == 5_000 { 30.0 } else { 1.0 };
+                scale * (1.0 + ti) * (1.1 + (ti * 40.0).sin()) * spike
+            })
+            .collect();
+        chart
+            .series
+            .push(Series::new(*name, t.clone(), y, Style::Line));
+    }
+    chart
+}
+
+fn convergence_chart() -> Chart {
+    let dt: Vec<f64> = (0..8).map(|i| 1e-3 / 2f64.powi(i)).collect();
+    let e1: Vec<f64> = dt.iter().map(|d| 3.0 * d).collect();
+    let e2: Vec<f64> = dt.iter().map(|d| 40.0 * d * d).collect();
+    let e4: Vec<f64> = dt.iter().map(|d| 2e3 * d.powi(4)).collect();
+    Chart {
+        title: "Energy error vs time step".into(),
+        x_label: "time step Δt (s)".into(),
+        y_label: "max relative energy error (–)".into(),
+        log_x: true,
+        log_y: true,
+        series: vec![
+            Series::new("Euler", dt.clone(), e1, Style::Points),
+            Series::new("leapfrog", dt.clone(), e2, Style::Points),
+            Series::new("RK4", dt.clone(), e4, Style::Points),
+            reference_slope("slope 1", 1.0, (dt[7], dt[0]), (dt[0], 6.0 * dt[0])),
+            reference_slope(
+                "slope 2",
+                2.0,
+                (dt[7], dt[0]),
+                (dt[0], 80.0 * dt[0] * dt[0]),
+            ),
+            reference_slope("slope 4", 4.0, (dt[7], dt[0]), (dt[0], 4e3 * dt[0].powi(4))),
+        ],
+        legend: LegendPos::Auto,
+    }
+}
+
+fn decode_png(path: &PathBuf) -> (u32, u32) {
+    let bytes = std::fs::read(path).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    let decoder = png::Decoder::new(std::io::Cursor::new(bytes));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    // Not a blank image: there is more than one colour.
+    let first = &buf[..3];
+    assert!(buf[..info.buffer_size()].chunks(3).any(|px| px != first));
+    (info.width, info.height)
+}
+
+#[test]
+fn png_has_signature_and_size() {
+    let p = out("energy.png");
+    render(&energy_chart(2_000), &p).unwrap();
+    assert_eq!(decode_png(&p), (1000, 700));
+}
+
+#[test]
+fn svg_contains_labels() {
+    let chart = convergence_chart();
+    let p = out("convergence.svg");
+    render(&chart, &p).unwrap();
+    let svg = std::fs::read_to_string(&p).unwrap();
+    assert!(svg.starts_with("<svg") || svg.starts_with("<?xml"));
+    assert!(svg.trim_end().ends_with("</svg>"));
+    for s in &chart.series {
+        assert!(svg.contains(&s.label), "missing label {}", s.label);
+    }
+    assert!(svg.contains("time step Δt (s)"));
+    assert!(svg.contains("max relative energy error (–)"));
+
+    // Text is XML-escaped.
+    let mut odd = Chart::new("a < b & c", "x (s)", "y (J)");
+    odd.series.push(Series::new(
+        "E<sub>k</sub> & co",
+        vec![1.0, 2.0],
+        vec![1.0, 2.0],
+        Style::Line,
+    ));
+    let p = out("escaped.svg");
+    render(&odd, &p).unwrap();
+    let svg = std::fs::read_to_string(&p).unwrap();
+    assert!(svg.contains("E&lt;sub&gt;k&lt;/sub&gt; &amp; co"));
+    assert!(!svg.contains("<sub>"));
+}
+
+#[test]
+fn log_log_with_reference_slopes_png() {
+    let p = out("convergence.png");
+    render(&convergence_chart(), &p).unwrap();
+    assert_eq!(decode_png(&p), (1000, 700));
+}
+
+#[test]
+fn svg_is_deterministic() {
+    let chart = energy_chart(5_000);
+    let (a, b) = (out("det_a.svg"), out("det_b.svg"));
+    render(&chart, &a).unwrap();
+    render(&chart, &b).unwrap();
+    assert_eq!(std::fs::read(a).unwrap(), std::fs::read(b).unwrap());
+}
+
+#[test]
+fn png_is_deterministic() {
+    let chart = convergence_chart();
+    let (a, b) = (out("det_a.png"), out("det_b.png"));
+    render(&chart, &a).unwrap();
+    render(&chart, &b).unwrap();
+    assert_eq!(std::fs::read(a).unwrap(), std::fs::read(b).unwrap());
+}
+
+#[test]
+fn odd_inputs_do_not_panic() {
+    let nan = f64::NAN;
+    let inf = f64::INFINITY;
+    let cases: Vec<(&str, Chart)> = vec![
+        ("empty", Chart::default()),
+        (
+            "empty_vectors",
+            Chart {
+                series: vec![Series::new("none", vec![], vec![], Style::Line)],
+                ..Chart::default()
+            },
+        ),
+        (
+            "all_nan",
+            Chart {
+                log_x: true,
+                log_y: true,
+                series: vec![Series::new(
+                    "nan",
+                    vec![nan, inf],
+                    vec![nan, -inf],
+                    Style::Line,
+                )],
+                ..Chart::new("all NaN", "x (s)", "y (J)")
+            },
+        ),
+        (
+            "single_point",
+            Chart {
+                series: vec![Series::new("one", vec![2.0], vec![3.0], Style::Dashed)],
+                ..Chart::new("single", "x (s)", "y (J)")
+            },
+        ),
+        (
+            "single_point_log",
+            Chart {
+                log_x: true,
+                log_y: true,
+                series: vec![Series::new("one", vec![2.0], vec![3.0], Style::Points)],
+                ..Chart::default()
+            },
+        ),
+        (
+            "constant_zero",
+            Chart {
+                series: vec![Series::new("zero", vec![0.0; 5], vec![0.0; 5], Style::Line)],
+                ..Chart::default()
+            },
+        ),
+        (
+            "constant_tiny",
+            Chart {
+                series: vec![Series::new(
+                    "tiny",
+                    vec![1.0, 2.0, 3.0],
+                    vec![1e-300; 3],
+                    Style::Line,
+                )],
+                ..Chart::default()
+            },
+        ),
+        (
+            "huge_range",
+            Chart {
+                series: vec![Series::new(
+                    "huge",
+                    vec![-f64::MAX, f64::MAX],
+                    vec![f64::MIN_POSITIVE, f64::MAX],
+                    Style::Line,
+                )],
+                ..Chart::default()
+            },
+        ),
+        (
+            "log_nonpositive_and_gaps",
+            Chart {
+                log_y: true,
+                legend: LegendPos::LowerLeft,
+                series: vec![Series::new(
+                    "gaps",
+                    vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0],
+                    vec![1.0, 0.0, -1.0, 2.0, nan, 3.0],
+                    Style::Line,
+                )],
+                ..Chart::default()
+            },
+        ),
+        (
+            "unlabelled",
+            Chart {
+                legend: LegendPos::Hidden,
+                series: vec![Series::new("", vec![1.0, 2.0], vec![1.0, 4.0], Style::Line)],
+                ..Chart::default()
+            },
+        ),
+        (
+            "many_series",
+            Chart {
+                series: (0..12)
+                    .map(|k| {
+                        Series::new(
+                            format!("s{k}"),
+                            vec![0.0, 1.0],
+                            vec![k as f64, 0.0],
+                            Style::Line,
+                        )
+                    })
+                    .collect(),
+                ..Chart::default()
+            },
+        ),
+    ];
+    for (name, chart) in cases {
+        for ext in ["png", "svg"] {
+            let p = out(&format!("odd_{name}.{ext}"));
+            render(&chart, &p).unwrap_or_else(|e| panic!("{name}.{ext}: {e}"));
+        }
+    }
+}
+
+#[test]
+fn errors_name_the_path() {
+    let p = out("chart.pdf");
+    let e = render(&convergence_chart(), &p).unwrap_err();
+    assert!(matches!(e, PlotError::UnsupportedFormat { .. }));
+    assert!(e.to_string().contains("chart.pdf"), "{e}");
+
+    let bad = Chart {
+        series: vec![Series::new("bad", vec![1.0, 2.0], vec![1.0], Style::Line)],
+        ..Chart::default()
+    };
+    let p = out("bad.svg");
+    let e = render(&bad, &p).unwrap_err();
+    assert!(matches!(e, PlotError::LengthMismatch { .. }));
+    assert!(e.to_string().contains("bad.svg"), "{e}");
+
+    let p = out("no-such-dir/x.png");
+    let e = render(&convergence_chart(), &p).unwrap_err();
+    assert!(matches!(e, PlotError::Io { .. }));
+    assert!(e.to_string().contains("x.png"), "{e}");
+}
+
+#[test]
+fn large_series_render() {
+    let chart = energy_chart(100_000);
+    for ext in ["png", "svg"] {
+        let p = out(&format!("energy_1e5.{ext}"));
+        let t0 = Instant::now();
+        render(&chart, &p).unwrap();
+        let dt = t0.elapsed();
+        eprintln!("3 series x 1e5 points -> {ext}: {dt:?}");
+        // Timing is printed, not asserted (shared machine); the file must exist.
+        assert!(std::fs::metadata(&p).unwrap().len() > 1000);
+    }
+
+    // Worst cases: 1e5 noisy points as markers and as a dashed line.
+    let n = 100_000;
+    let x: Vec<f64> = (0..n).map(|i| i as f64).collect();
+    let mut state = 12345u64;
+    let y: Vec<f64> = (0..n)
+        .map(|_| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        })
+        .collect();
+    let mut chart = Chart::new("noise", "sample (–)", "value (–)");
+    chart
+        .series
+        .push(Series::new("points", x.clone(), y.clone(), Style::Points));
+    chart
+        .series
+        .push(Series::new("dashed", x, y, Style::Dashed));
+    for ext in ["png", "svg"] {
+        let p = out(&format!("noise_1e5.{ext}"));
+        let t0 = Instant::now();
+        render(&chart, &p).unwrap();
+        let dt = t0.elapsed();
+        let size = std::fs::metadata(&p).unwrap().len();
+        eprintln!("1e5 noisy points + 1e5 dashed -> {ext}: {dt:?}, {size} bytes");
+        assert!(size > 1000);
+    }
+}
