@@ -14,6 +14,7 @@
 
 pub mod body;
 pub mod cli;
+pub mod contact;
 pub mod energy;
 pub mod error;
 pub mod integrate;

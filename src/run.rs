@@ -64,7 +64,11 @@ fn run_with<R: Rotator>(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome> 
     let mut world = World::new(scene);
     let ledger = |w: &World| Ledger::measure(&scene.bodies, &w.states, scene.gravity, w.elastic);
 
-    let mut energy = EnergyCsv::create(opts.out_dir.join("energy.csv"), &ledger(&world))?;
+    let mut energy = EnergyCsv::create(
+        opts.out_dir.join("energy.csv"),
+        &ledger(&world),
+        world.contacts.is_some(),
+    )?;
     let mut orient = if scene.has_prescribed_torque() || scene.reference.is_some() {
         Some(OrientationCsv::create(
             opts.out_dir.join("orientation.csv"),
@@ -88,7 +92,7 @@ fn run_with<R: Rotator>(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome> 
         Ok(())
     };
 
-    energy.observe(0, 0.0, &ledger(&world), true)?;
+    energy.observe(0, 0.0, &ledger(&world), world.contact_stats(), true)?;
     write_orientation(&mut orient, &world)?;
 
     let pb = progress_bar(sim.steps, opts.progress);
@@ -101,7 +105,13 @@ fn run_with<R: Rotator>(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome> 
             break;
         }
         let write = world.step % every == 0 || world.step == sim.steps;
-        energy.observe(world.step, world.time(), &ledger(&world), write)?;
+        energy.observe(
+            world.step,
+            world.time(),
+            &ledger(&world),
+            world.contact_stats(),
+            write,
+        )?;
         if write {
             write_orientation(&mut orient, &world)?;
         }
@@ -150,6 +160,7 @@ fn run_with<R: Rotator>(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome> 
         energy_error_full_max_pct: finite(energy.max_error_full)
             .filter(|_| energy.last_error_full.is_finite()),
         energy_error_full_final_pct: finite(energy.last_error_full),
+        max_overlap_ratio: world.contacts.is_some().then_some(energy.max_overlap_ratio),
         reference_error_final_rad: ref_err,
         reference_x_error_pct: ref_x_err,
         stopped: stopped.clone(),

@@ -8,6 +8,7 @@
 use super::rotate::{Rotator, RotatorFault};
 use super::verlet;
 use crate::body::BodyState;
+use crate::contact::stage::{ContactStage, ContactStats};
 use crate::error::Diagnosis;
 use crate::scenario::Scene;
 use glam::DVec3;
@@ -28,6 +29,8 @@ pub struct World<'s> {
     pub elastic: f64,
     /// Number of completed steps; the time is `step · δt`.
     pub step: u64,
+    /// The contact force stage; `None` when nothing can touch (SPEC §7).
+    pub contacts: Option<ContactStage>,
 }
 
 impl<'s> World<'s> {
@@ -40,6 +43,9 @@ impl<'s> World<'s> {
             torque: vec![DVec3::ZERO; n],
             elastic: 0.0,
             step: 0,
+            contacts: scene
+                .needs_contacts()
+                .then(|| ContactStage::new(&scene.bodies, scene.walls.as_ref())),
         };
         w.compute_forces();
         w
@@ -58,12 +64,20 @@ impl<'s> World<'s> {
     /// Stage 3: forces and torques at the current configuration. Without
     /// contacts there is nothing to compute (gravity enters as an acceleration).
     fn compute_forces(&mut self) {
-        if !self.scene.needs_contacts() {
-            return;
+        if let Some(c) = &mut self.contacts {
+            c.compute(
+                &self.scene.bodies,
+                &self.states,
+                &mut self.force,
+                &mut self.torque,
+            );
+            self.elastic = c.stats.elastic;
         }
-        self.force.iter_mut().for_each(|f| *f = DVec3::ZERO);
-        self.torque.iter_mut().for_each(|t| *t = DVec3::ZERO);
-        self.elastic = 0.0;
+    }
+
+    /// What the contact stage saw at the current configuration.
+    pub fn contact_stats(&self) -> Option<ContactStats> {
+        self.contacts.as_ref().map(|c| c.stats)
     }
 
     /// Advance one step with rotator `R`.

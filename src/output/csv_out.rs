@@ -1,6 +1,7 @@
 //! `energy.csv` and `orientation.csv` (column names are a public contract).
 
 use super::Row;
+use crate::contact::stage::ContactStats;
 use crate::energy::{error_pct, Ledger};
 use crate::error::{Error, Result};
 use crate::math::{geodesic_angle, wxyz};
@@ -41,6 +42,10 @@ pub struct EnergyCsv {
     e0: f64,
     e0_full: f64,
     window_max: f64,
+    with_contacts: bool,
+    window_overlap: f64,
+    /// Largest δ/D over the whole run (contact scenes).
+    pub max_overlap_ratio: f64,
     /// Largest Eq. 65 and full-budget errors over the whole run (every step).
     pub max_error: f64,
     pub max_error_full: f64,
@@ -49,16 +54,24 @@ pub struct EnergyCsv {
 }
 
 impl EnergyCsv {
-    pub fn create(path: PathBuf, initial: &Ledger) -> Result<Self> {
+    /// `with_contacts` adds the columns `contacts,max_overlap_ratio`: touching
+    /// pairs at the row's step and the largest δ/D since the previous row.
+    pub fn create(path: PathBuf, initial: &Ledger, with_contacts: bool) -> Result<Self> {
         let mut w = create(&path)?;
-        w.write_record(ENERGY_COLUMNS)
-            .map_err(|e| csv_err(&path, e))?;
+        let mut cols = ENERGY_COLUMNS.to_vec();
+        if with_contacts {
+            cols.extend(["contacts", "max_overlap_ratio"]);
+        }
+        w.write_record(&cols).map_err(|e| csv_err(&path, e))?;
         Ok(EnergyCsv {
             path,
             w,
             e0: initial.total(),
             e0_full: initial.total_full(),
             window_max: 0.0,
+            with_contacts,
+            window_overlap: 0.0,
+            max_overlap_ratio: 0.0,
             max_error: 0.0,
             max_error_full: 0.0,
             last_error: f64::NAN,
@@ -67,7 +80,17 @@ impl EnergyCsv {
     }
 
     /// Account for one step; `write` says whether this step gets a row.
-    pub fn observe(&mut self, step: u64, t: f64, l: &Ledger, write: bool) -> Result<()> {
+    pub fn observe(
+        &mut self,
+        step: u64,
+        t: f64,
+        l: &Ledger,
+        contacts: Option<ContactStats>,
+        write: bool,
+    ) -> Result<()> {
+        let c = contacts.unwrap_or_default();
+        self.window_overlap = self.window_overlap.max(c.max_overlap_ratio);
+        self.max_overlap_ratio = self.max_overlap_ratio.max(c.max_overlap_ratio);
         let err = error_pct(l.total(), self.e0);
         let err_full = error_pct(l.total_full(), self.e0_full);
         // f64::max ignores NaN, so the maxima stay NaN-free for E_0 = 0 scenes.
@@ -82,6 +105,8 @@ impl EnergyCsv {
             } else {
                 self.window_max
             };
+            let with_contacts = self.with_contacts;
+            let overlap = self.window_overlap;
             Row::new(&mut self.w)
                 .u(step)
                 .and_then(|r| r.f(t))
@@ -93,9 +118,15 @@ impl EnergyCsv {
                 .and_then(|r| r.f(err))
                 .and_then(|r| r.f(err_full))
                 .and_then(|r| r.f(window))
-                .and_then(|r| r.end())
+                .and_then(|r| {
+                    if with_contacts {
+                        r.u(c.touching as u64)?.f(overlap)?;
+                    }
+                    r.end()
+                })
                 .map_err(|e| csv_err(&self.path, e))?;
             self.window_max = 0.0;
+            self.window_overlap = 0.0;
         }
         Ok(())
     }

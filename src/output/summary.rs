@@ -32,6 +32,8 @@ pub struct Summary {
     pub energy_error_final_pct: Option<f64>,
     pub energy_error_full_max_pct: Option<f64>,
     pub energy_error_full_final_pct: Option<f64>,
+    /// Contact scenes: the largest overlap over the fibre diameter, δ/D.
+    pub max_overlap_ratio: Option<f64>,
     /// Closed-form scenes: geodesic angle to the reference at the end, rad.
     pub reference_error_final_rad: Option<f64>,
     /// Closed-form scenes: relative error of the body-x vector's x-component at

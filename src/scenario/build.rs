@@ -270,6 +270,24 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
         }
     }
 
+    if needs_contacts {
+        if let Some((i, other, overlap)) =
+            crate::contact::stage::first_overlap(&bodies, &initial, walls.as_ref())
+        {
+            let with = match other {
+                Some(j) => format!("body[{j}] `{}`", bodies[j].name),
+                None => "a wall".to_string(),
+            };
+            return Err(cx.err(
+                &format!("body[{i}].position"),
+                format!(
+                    "body `{}` overlaps {with} by {overlap:e} m at the start; move the bodies apart",
+                    bodies[i].name
+                ),
+            ));
+        }
+    }
+
     let reference = match &raw.reference {
         Some(r) => Some(build_reference(&cx, r, &bodies, &initial, &torques)?),
         None => None,

@@ -1,0 +1,55 @@
+//! Contact geometry for rigid flat-ended cylindrical fibres (fibre–wall,
+//! fibre–fibre) and the Hertz force law they feed.
+//!
+//! Every kernel appends [`ContactPoint`]s; the force on body A is
+//! `weight * F_hertz(overlap) * normal` acting at `point` (on B the opposite),
+//! and the stored energy is `weight * U_hertz(overlap)`.
+
+pub mod broad;
+pub mod fibre_fibre;
+pub mod fibre_wall;
+pub mod hertz;
+pub mod stage;
+
+pub use broad::{candidate_pairs, fibre_aabb};
+pub use fibre_fibre::contact_fibre_fibre;
+pub use fibre_wall::contact_fibre_wall;
+pub use hertz::HertzLaw;
+
+use glam::DVec3;
+
+/// A fibre as the kernels see it: solid flat-ended cylinder.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FibreGeom {
+    /// Centre of mass (world).
+    pub centre: DVec3,
+    /// Unit symmetry axis (body x) in world coordinates.
+    pub axis: DVec3,
+    /// D/2.
+    pub radius: f64,
+    /// L/2.
+    pub half_length: f64,
+}
+
+/// Half-space wall of an axis-aligned box: plane `normal·x = offset`, the
+/// box interior is `normal·x >= offset`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Wall {
+    /// Unit normal pointing into the box.
+    pub normal: DVec3,
+    /// Plane offset.
+    pub offset: f64,
+}
+
+/// One Hertz contact: force on A is `weight * F(overlap) * normal` at `point`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactPoint {
+    /// Application point (world), midway between the two surfaces.
+    pub point: DVec3,
+    /// Unit direction of the force on body A.
+    pub normal: DVec3,
+    /// Overlap δ > 0 (m).
+    pub overlap: f64,
+    /// Share of the Hertz force/energy, in (0, 1].
+    pub weight: f64,
+}
