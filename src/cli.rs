@@ -20,8 +20,19 @@ pub struct Cli {
 pub enum Command {
     /// Run a scenario and write energy.csv, orientation.csv (torque scenes) and summary.json.
     Run(RunArgs),
+    /// Validate a scenario and print masses, contact and Rayleigh times, the recommended dt and what will run.
+    Check(CheckArgs),
     /// List the rotators with their equations, order and torque contract.
     Rotators,
+}
+
+#[derive(Debug, Args)]
+pub struct CheckArgs {
+    /// Scenario TOML file.
+    pub scenario: PathBuf,
+    /// Judge this time step instead of simulation.dt.
+    #[arg(long)]
+    pub dt: Option<f64>,
 }
 
 #[derive(Debug, Args)]
@@ -43,6 +54,15 @@ pub struct RunArgs {
     /// Write one output row every N steps [default: at most 2e4 rows; every row also carries the largest error since the previous row].
     #[arg(long)]
     pub every: Option<u64>,
+    /// Stop when the full-budget energy error exceeds this many percent [default: guards.energy_error_pct, else 10].
+    #[arg(long)]
+    pub max_energy_error: Option<f64>,
+    /// Stop when a contact overlap exceeds this fraction of the diameter [default: guards.overlap_ratio, else 0.2].
+    #[arg(long)]
+    pub max_overlap: Option<f64>,
+    /// Run even when dt leaves fewer than 5 steps per Hertz collision (normally refused as bad input).
+    #[arg(long)]
+    pub allow_large_dt: bool,
     /// No progress bar and no summary on stdout.
     #[arg(long, short)]
     pub quiet: bool,

@@ -12,6 +12,7 @@
 //! Data flows one way: [`scenario`] (raw TOML → checked [`scenario::Scene`]) →
 //! [`integrate`] (the fixed step sequence) → [`output`] (observers).
 
+pub mod advice;
 pub mod body;
 pub mod cli;
 pub mod contact;

@@ -2,7 +2,8 @@
 //! exit codes (see `fibresim::error`).
 
 use clap::Parser;
-use fibresim::cli::{Cli, Command, RunArgs};
+use fibresim::advice::advise;
+use fibresim::cli::{CheckArgs, Cli, Command, RunArgs};
 use fibresim::error::{Error, Result};
 use fibresim::integrate::rotate::RotatorKind;
 use fibresim::run::{run, RunOptions};
@@ -19,6 +20,7 @@ fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(args) => cmd_run(args),
+        Command::Check(args) => cmd_check(args),
         Command::Rotators => {
             print_rotators();
             Ok(())
@@ -68,11 +70,99 @@ fn load_scene(args: &RunArgs) -> Result<(Scene, String)> {
             "--",
         )?;
     }
+    if let Some(v) = args.max_energy_error {
+        scene.guards.energy_error_pct = positive_flag("--max-energy-error", v)?;
+    }
+    if let Some(v) = args.max_overlap {
+        scene.guards.overlap_ratio = positive_flag("--max-overlap", v)?;
+    }
     Ok((scene, stem))
+}
+
+fn positive_flag(flag: &str, v: f64) -> Result<f64> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(Error::bad(
+            "command line",
+            flag,
+            format!("must be a finite number > 0, got {v}"),
+        ))
+    }
+}
+
+fn cmd_check(args: CheckArgs) -> Result<()> {
+    let mut scene = scenario::load(&args.scenario)?;
+    if let Some(dt) = args.dt {
+        let s = &scene.sim;
+        scene.sim = SimParams::new(dt, s.t_end(), s.rotator, s.every, "command line", "--")?;
+    }
+    let a = advise(&scene);
+    println!(
+        "scenario {}: {} bodies, dt = {:e} s, {} steps, rotator {}",
+        scene.source,
+        scene.bodies.len(),
+        scene.sim.dt,
+        scene.sim.steps,
+        scene.sim.rotator
+    );
+    println!("\nbodies (mass kg; principal inertia kg m^2, body x y z):");
+    for (i, b) in scene.bodies.iter().enumerate() {
+        let p = b.inertia.principal;
+        println!(
+            "  [{i}] {:<10} {:?}  m = {:.4e}  I = ({:.4e}, {:.4e}, {:.4e})",
+            b.name, b.shape, b.mass, p.x, p.y, p.z
+        );
+    }
+    println!("\ncomponents: gravity {}, walls {}, contact search {}, prescribed torques on {} bodies, closed-form reference {}",
+        if scene.gravity.is_some() { "on" } else { "off" },
+        if scene.walls.is_some() { "6 half-spaces" } else { "none" },
+        match scene.bodies.len() { _ if !scene.needs_contacts() => "off".to_string(), 1 => "walls only".into(), n if n <= 32 => format!("{n} bodies, all pairs"), n => format!("{n} bodies, sort-and-sweep") },
+        scene.torques.iter().filter(|t| t.is_some()).count(),
+        if scene.reference.is_some() { "yes" } else { "no" });
+    if !a.pairs.is_empty() {
+        println!("\nimpact speeds bounded by energy conservation: E_avail = {:.4e} J (all of it into one body)", a.available_energy);
+        println!(
+            "  {:<24} {:>11} {:>11} {:>13} {:>13}",
+            "pair", "m* (kg)", "v_max (m/s)", "t_Hertz (s)", "t_Rayleigh (s)"
+        );
+        for p in &a.pairs {
+            println!(
+                "  {:<24} {:>11.4e} {:>11.4e} {:>13.4e} {:>13.4e}",
+                p.pair, p.reduced_mass, p.v_max, p.contact_time, p.rayleigh_time
+            );
+        }
+    }
+    match a.recommended_dt {
+        Some(r) => println!("\nrecommended dt <= {r:.3e} s (shortest collision / 50, and 0.2 x Rayleigh time); chosen dt = {:e} s, margin {:.3}x", scene.sim.dt, r / scene.sim.dt),
+        None => println!("\nno contacts to resolve: dt is limited by accuracy only (see `fibresim rotators` for orders)"),
+    }
+    for w in &a.warnings {
+        println!("warning: {w}");
+    }
+    Ok(())
 }
 
 fn cmd_run(args: RunArgs) -> Result<()> {
     let (scene, stem) = load_scene(&args)?;
+    let advice = advise(&scene);
+    if let Some(limit) = advice.hard_limit_dt {
+        if scene.sim.dt > limit && !args.allow_large_dt {
+            return Err(Error::bad(
+                &scene.source,
+                "simulation.dt",
+                format!(
+                    "dt = {:e} s leaves fewer than 5 steps for the shortest Hertz collision ({:.3e} s); use dt <= {:.3e} s (see `fibresim check`), or --allow-large-dt to run anyway",
+                    scene.sim.dt,
+                    limit * 5.0,
+                    advice.recommended_dt.unwrap_or(limit)
+                ),
+            ));
+        }
+    }
+    for w in &advice.warnings {
+        eprintln!("warning: {w}");
+    }
     let out_dir = args.out.clone().unwrap_or_else(|| {
         PathBuf::from("out")
             .join(&stem)

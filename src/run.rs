@@ -1,6 +1,5 @@
 //! Run a scene to its end: the step loop with its observers.
 
-use crate::energy::Ledger;
 use crate::error::{Error, Result};
 use crate::integrate::rotate::Rotator;
 use crate::integrate::step::World;
@@ -62,11 +61,10 @@ fn run_with<R: Rotator>(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome> 
         .or(sim.every)
         .unwrap_or_else(|| default_every(sim.steps));
     let mut world = World::new(scene);
-    let ledger = |w: &World| Ledger::measure(&scene.bodies, &w.states, scene.gravity, w.elastic);
 
     let mut energy = EnergyCsv::create(
         opts.out_dir.join("energy.csv"),
-        &ledger(&world),
+        &world.ledger,
         world.contacts.is_some(),
     )?;
     let mut orient = if scene.has_prescribed_torque() || scene.reference.is_some() {
@@ -92,7 +90,7 @@ fn run_with<R: Rotator>(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome> 
         Ok(())
     };
 
-    energy.observe(0, 0.0, &ledger(&world), world.contact_stats(), true)?;
+    energy.observe(0, 0.0, &world.ledger, world.contact_stats(), true)?;
     write_orientation(&mut orient, &world)?;
 
     let pb = progress_bar(sim.steps, opts.progress);
@@ -108,7 +106,7 @@ fn run_with<R: Rotator>(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome> 
         energy.observe(
             world.step,
             world.time(),
-            &ledger(&world),
+            &world.ledger,
             world.contact_stats(),
             write,
         )?;

@@ -18,8 +18,9 @@ use glam::DVec3;
 pub struct ContactStats {
     /// Touching pairs (body–body or body–wall).
     pub touching: usize,
-    /// Largest overlap over the fibre diameter, δ/D.
+    /// Largest overlap over the fibre diameter, δ/D, and the body it is on.
     pub max_overlap_ratio: f64,
+    pub max_overlap_body: usize,
     /// Elastic energy of the live contacts, J.
     pub elastic: f64,
 }
@@ -198,7 +199,10 @@ fn apply(
         let f = (c.weight * law.force(c.overlap)) * c.normal;
         stats.elastic += c.weight * law.energy(c.overlap);
         let ratio_a = c.overlap / (2.0 * ga.radius);
-        stats.max_overlap_ratio = stats.max_overlap_ratio.max(ratio_a);
+        if ratio_a > stats.max_overlap_ratio {
+            stats.max_overlap_ratio = ratio_a;
+            stats.max_overlap_body = a;
+        }
         force[a] += f;
         torque[a] += (c.point - ga.centre).cross(f);
         if let Some(gb) = gb {

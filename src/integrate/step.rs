@@ -9,6 +9,7 @@ use super::rotate::{Rotator, RotatorFault};
 use super::verlet;
 use crate::body::BodyState;
 use crate::contact::stage::{ContactStage, ContactStats};
+use crate::energy::{error_pct, Ledger};
 use crate::error::Diagnosis;
 use crate::scenario::Scene;
 use glam::DVec3;
@@ -31,6 +32,10 @@ pub struct World<'s> {
     pub step: u64,
     /// The contact force stage; `None` when nothing can touch (SPEC §7).
     pub contacts: Option<ContactStage>,
+    /// Energy ledger at `states` (updated every step: the energy guard reads it).
+    pub ledger: Ledger,
+    /// Full-budget energy at step 0.
+    pub e0_full: f64,
 }
 
 impl<'s> World<'s> {
@@ -46,9 +51,22 @@ impl<'s> World<'s> {
             contacts: scene
                 .needs_contacts()
                 .then(|| ContactStage::new(&scene.bodies, scene.walls.as_ref())),
+            ledger: Ledger::default(),
+            e0_full: 0.0,
         };
         w.compute_forces();
+        w.ledger = w.measure();
+        w.e0_full = w.ledger.total_full();
         w
+    }
+
+    fn measure(&self) -> Ledger {
+        Ledger::measure(
+            &self.scene.bodies,
+            &self.states,
+            self.scene.gravity,
+            self.elastic,
+        )
     }
 
     pub fn time(&self) -> f64 {
@@ -112,6 +130,7 @@ impl<'s> World<'s> {
             }
         }
         self.step += 1;
+        self.ledger = self.measure();
         self.check_state()
     }
 
@@ -130,8 +149,41 @@ impl<'s> World<'s> {
         }
     }
 
-    /// Guards after a step: a finite state and unit quaternions.
+    /// Guards after a step: a finite state, unit quaternions, overlaps within
+    /// the Hertz range, and the energy budget.
     fn check_state(&self) -> Result<(), Diagnosis> {
+        let guards = &self.scene.guards;
+        let diag =
+            |kind: &str, body: Option<usize>, quantity: &str, value: f64, limit: f64| Diagnosis {
+                kind: kind.into(),
+                step: self.step,
+                t: self.time(),
+                body,
+                quantity: quantity.into(),
+                value,
+                limit,
+            };
+        if let Some(c) = self.contact_stats() {
+            if c.max_overlap_ratio > guards.overlap_ratio {
+                return Err(diag(
+                    "overlap beyond the Hertz range (impact too fast or dt too large)",
+                    Some(c.max_overlap_body),
+                    "overlap / D",
+                    c.max_overlap_ratio,
+                    guards.overlap_ratio,
+                ));
+            }
+        }
+        let err = error_pct(self.ledger.total_full(), self.e0_full);
+        if err > guards.energy_error_pct {
+            return Err(diag(
+                "energy blow-up (full-budget energy error above the limit)",
+                None,
+                "energy error %",
+                err,
+                guards.energy_error_pct,
+            ));
+        }
         for (i, s) in self.states.iter().enumerate() {
             let finite = s.x.is_finite()
                 && s.v.is_finite()

@@ -77,6 +77,27 @@ impl SimParams {
     }
 }
 
+/// Limits that stop a run early with a named diagnosis (SPEC §8).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Guards {
+    /// Largest full-budget energy error (Eq. 65 with the elastic term), percent.
+    /// Default 10 %: far above any trustworthy run (the paper's worst is ~2 %),
+    /// low enough to stop a blow-up within a few steps of its start.
+    pub energy_error_pct: f64,
+    /// Largest overlap as a fraction of the fibre diameter. Default 0.2: Hertz
+    /// theory assumes small strains; beyond δ = D/5 the contact model is fiction.
+    pub overlap_ratio: f64,
+}
+
+impl Default for Guards {
+    fn default() -> Self {
+        Guards {
+            energy_error_pct: 10.0,
+            overlap_ratio: 0.2,
+        }
+    }
+}
+
 /// The six walls of an axis-aligned box, with their elastic constants.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Walls {
@@ -128,6 +149,7 @@ pub struct Scene {
     pub gravity: Option<DVec3>,
     pub walls: Option<Walls>,
     pub reference: Option<ClosedForm>,
+    pub guards: Guards,
 }
 
 impl Scene {
@@ -293,7 +315,16 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
         None => None,
     };
 
+    let mut guards = Guards::default();
+    if let Some(v) = raw.guards.energy_error_pct {
+        guards.energy_error_pct = cx.positive("guards.energy_error_pct", v)?;
+    }
+    if let Some(v) = raw.guards.overlap_ratio {
+        guards.overlap_ratio = cx.positive("guards.overlap_ratio", v)?;
+    }
+
     Ok(Scene {
+        guards,
         source: src.to_string(),
         sim,
         bodies,

@@ -18,6 +18,18 @@ pub struct ScenarioFile {
     #[serde(default)]
     pub body: Vec<BodySection>,
     pub reference: Option<ReferenceSection>,
+    #[serde(default)]
+    pub guards: GuardsSection,
+}
+
+/// Limits that stop a run early with a diagnosis (defaults in `build::Guards`).
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GuardsSection {
+    /// Largest full-budget energy error, percent.
+    pub energy_error_pct: Option<f64>,
+    /// Largest contact overlap as a fraction of the fibre diameter.
+    pub overlap_ratio: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -4,4 +4,4 @@
 pub mod build;
 pub mod file;
 
-pub use build::{load, parse_str, ClosedForm, Scene, SimParams, Walls};
+pub use build::{load, parse_str, ClosedForm, Guards, Scene, SimParams, Walls};
