@@ -17,6 +17,7 @@ fn bench(c: &mut Criterion) {
         out_dir: dir.path().to_path_buf(),
         every: None,
         progress: false,
+        ..Default::default()
     };
     let mut g = c.benchmark_group("run");
     g.sample_size(10).measurement_time(Duration::from_secs(5));

@@ -60,6 +60,12 @@ pub struct RunArgs {
     /// Stop when a contact overlap exceeds this fraction of the diameter [default: guards.overlap_ratio, else 0.2].
     #[arg(long)]
     pub max_overlap: Option<f64>,
+    /// Write <out>/checkpoint.json every N steps (Ctrl-C always writes one).
+    #[arg(long)]
+    pub checkpoint_every: Option<u64>,
+    /// Continue from a checkpoint (its scenario, dt, rotator and cadence; --t-end may extend the run; outputs go to the checkpoint's folder unless --out).
+    #[arg(long, conflicts_with_all = ["scenario", "rotator", "dt", "every"])]
+    pub resume: Option<PathBuf>,
     /// Run even when dt leaves fewer than 5 steps per Hertz collision (normally refused as bad input).
     #[arg(long)]
     pub allow_large_dt: bool,

@@ -2,7 +2,8 @@
 //!
 //! Exit codes (documented in the README): 2 = bad input (fix the scenario or the
 //! flags), 3 = the run became unstable and was stopped (see the diagnosis),
-//! 1 = anything else (I/O failure while writing results).
+//! 1 = anything else (I/O failure while writing results), 130 = interrupted by
+//! SIGINT (a checkpoint was written).
 
 use std::path::PathBuf;
 
@@ -51,6 +52,9 @@ pub enum Error {
     /// The run was stopped because it stopped being trustworthy.
     #[error("run stopped: {0}")]
     Unstable(Diagnosis),
+    /// Stopped by SIGINT after writing a checkpoint.
+    #[error("{} at step {} (t = {:e} s)", .0.kind, .0.step, .0.t)]
+    Interrupted(Diagnosis),
     #[error("cannot write {path}: {source}")]
     Io {
         path: PathBuf,
@@ -83,6 +87,7 @@ impl Error {
         match self {
             Error::BadInput { .. } => 2,
             Error::Unstable(_) => 3,
+            Error::Interrupted(_) => 130,
             Error::Io { .. } => 1,
         }
     }

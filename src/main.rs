@@ -6,7 +6,8 @@ use fibresim::advice::advise;
 use fibresim::cli::{CheckArgs, Cli, Command, RunArgs};
 use fibresim::error::{Error, Result};
 use fibresim::integrate::rotate::RotatorKind;
-use fibresim::run::{run, RunOptions};
+use fibresim::output::Checkpoint;
+use fibresim::run::{self, RunOptions};
 use fibresim::scenario::{self, Scene, SimParams};
 use std::path::PathBuf;
 
@@ -144,7 +145,21 @@ fn cmd_check(args: CheckArgs) -> Result<()> {
 }
 
 fn cmd_run(args: RunArgs) -> Result<()> {
-    let (scene, stem) = load_scene(&args)?;
+    let checkpoint = args.resume.as_deref().map(Checkpoint::read).transpose()?;
+    let (scene, stem) = match &checkpoint {
+        Some(c) => (
+            run::scene_from_checkpoint(c, args.t_end)?,
+            "resumed".to_string(),
+        ),
+        None => load_scene(&args)?,
+    };
+    if args.checkpoint_every == Some(0) {
+        return Err(Error::bad(
+            "command line",
+            "--checkpoint-every",
+            "must be >= 1",
+        ));
+    }
     let advice = advise(&scene);
     if let Some(limit) = advice.hard_limit_dt {
         if scene.sim.dt > limit && !args.allow_large_dt {
@@ -163,17 +178,23 @@ fn cmd_run(args: RunArgs) -> Result<()> {
     for w in &advice.warnings {
         eprintln!("warning: {w}");
     }
-    let out_dir = args.out.clone().unwrap_or_else(|| {
-        PathBuf::from("out")
+    let default_out = match &args.resume {
+        Some(p) => p.parent().map_or_else(|| PathBuf::from("."), PathBuf::from),
+        None => PathBuf::from("out")
             .join(&stem)
-            .join(scene.sim.rotator.name())
-    });
+            .join(scene.sim.rotator.name()),
+    };
+    let out_dir = args.out.clone().unwrap_or(default_out);
     let opts = RunOptions {
         out_dir: out_dir.clone(),
         every: None,
         progress: !args.quiet,
+        checkpoint_every: args.checkpoint_every,
     };
-    let outcome = run(&scene, &opts);
+    // Ctrl-C: finish the current step, write a checkpoint, flush, exit 130.
+    let _ =
+        ctrlc::set_handler(|| run::INTERRUPTED.store(true, std::sync::atomic::Ordering::Relaxed));
+    let outcome = run::run_from(&scene, &opts, checkpoint.as_ref());
     match &outcome {
         Ok(o) if !args.quiet => {
             let s = &o.summary;
@@ -194,7 +215,9 @@ fn cmd_run(args: RunArgs) -> Result<()> {
                 println!("closed-form reference: final angle error {e:.3e} rad");
             }
         }
-        Err(Error::Unstable(_)) => eprintln!("outputs so far kept in {}", out_dir.display()),
+        Err(Error::Unstable(_) | Error::Interrupted(_)) => {
+            eprintln!("outputs so far kept in {}", out_dir.display())
+        }
         _ => {}
     }
     outcome.map(|_| ())

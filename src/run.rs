@@ -1,25 +1,39 @@
-//! Run a scene to its end: the step loop with its observers.
+//! Run a scene to its end: the step loop with its observers, checkpoints and
+//! the interrupt flag.
 
-use crate::error::{Error, Result};
+use crate::error::{Diagnosis, Error, Result};
 use crate::integrate::rotate::Rotator;
 use crate::integrate::step::World;
 use crate::math::wxyz;
+use crate::output::checkpoint::{self, bits, state_bits, unbits};
 use crate::output::summary::finite;
-use crate::output::{default_every, BodyFinal, EnergyCsv, OrientationCsv, Summary};
+use crate::output::{
+    default_every, BodyFinal, Checkpoint, EnergyCsv, EnergyStats, OrientationCsv, Summary,
+};
 use crate::scenario::Scene;
 use crate::with_rotator;
 use std::io::IsTerminal;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
+/// Set by the SIGINT handler (`main`); the run loop stops at the next step,
+/// writes a checkpoint and flushes its outputs.
+pub static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// File name of the checkpoint inside the output folder.
+pub const CHECKPOINT_FILE: &str = "checkpoint.json";
+
 /// How to run: where to write and how often.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub struct RunOptions {
     pub out_dir: PathBuf,
-    /// Output cadence; `None` = the scene's, else the default (≤ ~1e5 rows).
+    /// Output cadence; `None` = the scene's, else the default (≤ 2e4 rows).
     pub every: Option<u64>,
     /// Show a progress bar (only drawn when stderr is a terminal).
     pub progress: bool,
+    /// Write `checkpoint.json` every this many steps.
+    pub checkpoint_every: Option<u64>,
 }
 
 /// Outcome of a finished run. A run stopped by a guard returns
@@ -30,6 +44,15 @@ pub struct RunOutcome {
 
 /// Run `scene` with its rotator (`scene.sim.rotator`).
 pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome> {
+    run_from(scene, opts, None)
+}
+
+/// Continue a run from a checkpoint (`scene` rebuilt with [`scene_from_checkpoint`]).
+pub fn run_from(
+    scene: &Scene,
+    opts: &RunOptions,
+    resume: Option<&Checkpoint>,
+) -> Result<RunOutcome> {
     std::fs::create_dir_all(&opts.out_dir).map_err(|e| {
         Error::bad(
             opts.out_dir.display().to_string(),
@@ -37,7 +60,38 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome> {
             format!("cannot create the output folder: {e}"),
         )
     })?;
-    with_rotator!(scene.sim.rotator, R => run_with::<R>(scene, opts))
+    with_rotator!(scene.sim.rotator, R => run_with::<R>(scene, opts, resume))
+}
+
+/// Rebuild the scene a checkpoint was taken from, with its δt, rotator, cadence
+/// and guards; `t_end` overrides the original end time.
+pub fn scene_from_checkpoint(c: &Checkpoint, t_end: Option<f64>) -> Result<Scene> {
+    let mut scene = crate::scenario::parse_str(&c.scenario_text, &c.scenario_source)?;
+    let rotator =
+        crate::integrate::rotate::RotatorKind::from_name(&c.rotator).ok_or_else(|| {
+            Error::bad(
+                "checkpoint",
+                "rotator",
+                format!("unknown rotator `{}`", c.rotator),
+            )
+        })?;
+    let dt = unbits(&c.dt, "dt")?;
+    let t_end = t_end.unwrap_or(scene.sim.t_end());
+    scene.sim =
+        crate::scenario::SimParams::new(dt, t_end, rotator, Some(c.every), "command line", "--")?;
+    if scene.sim.steps < c.step {
+        return Err(Error::bad(
+            "command line",
+            "--t-end",
+            format!(
+                "the checkpoint is at step {} (t = {}), past t_end = {t_end}",
+                c.step, c.t
+            ),
+        ));
+    }
+    scene.guards.energy_error_pct = unbits(&c.guards[0], "guards")?;
+    scene.guards.overlap_ratio = unbits(&c.guards[1], "guards")?;
+    Ok(scene)
 }
 
 fn progress_bar(steps: u64, enabled: bool) -> Option<indicatif::ProgressBar> {
@@ -54,64 +108,189 @@ fn progress_bar(steps: u64, enabled: bool) -> Option<indicatif::ProgressBar> {
     Some(pb)
 }
 
-fn run_with<R: Rotator>(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome> {
+/// The observers of one run: energy and orientation files.
+struct Outputs {
+    energy: EnergyCsv,
+    orient: Option<OrientationCsv>,
+}
+
+impl Outputs {
+    fn write_orientation(&mut self, scene: &Scene, w: &World) -> Result<()> {
+        if let Some(o) = &mut self.orient {
+            let reference = scene
+                .reference
+                .as_ref()
+                .map(|r| r.orientation(w.time(), scene.initial[0].rot.q));
+            for (i, s) in w.states.iter().enumerate() {
+                o.write(w.step, w.time(), i, s.rot.q, reference)?;
+            }
+        }
+        Ok(())
+    }
+
+    fn write_row(&mut self, scene: &Scene, w: &World) -> Result<()> {
+        self.energy
+            .write_row(w.step, w.time(), &w.ledger, w.contact_stats())?;
+        self.write_orientation(scene, w)
+    }
+
+    fn checkpoint(
+        &mut self,
+        scene: &Scene,
+        w: &World,
+        every: u64,
+        path: &std::path::Path,
+    ) -> Result<()> {
+        Checkpoint {
+            format: checkpoint::FORMAT.into(),
+            scenario_source: scene.source.clone(),
+            scenario_text: scene.text.clone(),
+            rotator: scene.sim.rotator.name().into(),
+            dt: bits(scene.sim.dt),
+            every,
+            guards: [
+                bits(scene.guards.energy_error_pct),
+                bits(scene.guards.overlap_ratio),
+            ],
+            step: w.step,
+            t: w.time(),
+            states: w.states.iter().map(state_bits).collect(),
+            energy_stats: self.energy.stats.to_array().map(bits).to_vec(),
+            energy_csv_len: self.energy.flushed_len()?,
+            orientation_csv_len: match &mut self.orient {
+                Some(o) => Some(o.flushed_len()?),
+                None => None,
+            },
+        }
+        .write(path)
+    }
+}
+
+fn open_outputs(
+    scene: &Scene,
+    opts: &RunOptions,
+    world: &mut World,
+    resume: Option<&Checkpoint>,
+) -> Result<Outputs> {
+    let with_orientation = scene.has_prescribed_torque() || scene.reference.is_some();
+    let energy_path = opts.out_dir.join("energy.csv");
+    let orient_path = opts.out_dir.join("orientation.csv");
+    match resume {
+        None => {
+            let mut out = Outputs {
+                energy: EnergyCsv::create(energy_path, &world.ledger, world.contacts.is_some())?,
+                orient: if with_orientation {
+                    Some(OrientationCsv::create(
+                        orient_path,
+                        scene.reference.is_some(),
+                    )?)
+                } else {
+                    None
+                },
+            };
+            out.energy.account(&world.ledger, world.contact_stats());
+            out.write_row(scene, world)?;
+            Ok(out)
+        }
+        Some(c) => {
+            if c.states.len() != scene.bodies.len() || c.energy_stats.len() != 9 {
+                return Err(Error::bad(
+                    "checkpoint",
+                    "states",
+                    "does not match its own scenario",
+                ));
+            }
+            let states = c
+                .states
+                .iter()
+                .map(|s| checkpoint::state_from_bits(s))
+                .collect::<Result<Vec<_>>>()?;
+            world.restore(states, c.step);
+            let mut a = [0.0; 9];
+            for (x, s) in a.iter_mut().zip(&c.energy_stats) {
+                *x = unbits(s, "energy_stats")?;
+            }
+            let orient = match (with_orientation, c.orientation_csv_len) {
+                (true, Some(len)) => Some(OrientationCsv::resume(
+                    orient_path,
+                    len,
+                    scene.reference.is_some(),
+                )?),
+                (false, None) => None,
+                _ => {
+                    return Err(Error::bad(
+                        "checkpoint",
+                        "orientation_csv_len",
+                        "does not match its scenario",
+                    ))
+                }
+            };
+            Ok(Outputs {
+                energy: EnergyCsv::resume(
+                    energy_path,
+                    c.energy_csv_len,
+                    EnergyStats::from_array(a),
+                    world.contacts.is_some(),
+                )?,
+                orient,
+            })
+        }
+    }
+}
+
+fn run_with<R: Rotator>(
+    scene: &Scene,
+    opts: &RunOptions,
+    resume: Option<&Checkpoint>,
+) -> Result<RunOutcome> {
     let sim = &scene.sim;
     let every = opts
         .every
         .or(sim.every)
         .unwrap_or_else(|| default_every(sim.steps));
     let mut world = World::new(scene);
-
-    let mut energy = EnergyCsv::create(
-        opts.out_dir.join("energy.csv"),
-        &world.ledger,
-        world.contacts.is_some(),
-    )?;
-    let mut orient = if scene.has_prescribed_torque() || scene.reference.is_some() {
-        Some(OrientationCsv::create(
-            opts.out_dir.join("orientation.csv"),
-            scene.reference.is_some(),
-        )?)
-    } else {
-        None
-    };
-    let reference_at = |w: &World| {
-        scene
-            .reference
-            .as_ref()
-            .map(|r| r.orientation(w.time(), scene.initial[0].rot.q))
-    };
-    let write_orientation = |o: &mut Option<OrientationCsv>, w: &World| -> Result<()> {
-        if let Some(o) = o {
-            for (i, s) in w.states.iter().enumerate() {
-                o.write(w.step, w.time(), i, s.rot.q, reference_at(w))?;
-            }
-        }
-        Ok(())
-    };
-
-    energy.observe(0, 0.0, &world.ledger, world.contact_stats(), true)?;
-    write_orientation(&mut orient, &world)?;
+    let mut out = open_outputs(scene, opts, &mut world, resume)?;
+    let checkpoint_path = opts.out_dir.join(CHECKPOINT_FILE);
+    let first_step = world.step;
 
     let pb = progress_bar(sim.steps, opts.progress);
     let tick = (sim.steps / 1000).max(1);
     let start = Instant::now();
-    let mut stopped = None;
+    let mut stopped: Option<Diagnosis> = None;
     while world.step < sim.steps {
         if let Err(d) = world.step::<R>() {
             stopped = Some(d);
             break;
         }
-        let write = world.step % every == 0 || world.step == sim.steps;
-        energy.observe(
-            world.step,
-            world.time(),
-            &world.ledger,
-            world.contact_stats(),
-            write,
-        )?;
-        if write {
-            write_orientation(&mut orient, &world)?;
+        let cadence = world.step % every == 0;
+        let last = world.step == sim.steps;
+        out.energy.account(&world.ledger, world.contact_stats());
+        if cadence {
+            out.write_row(scene, &world)?;
+        }
+        // A checkpoint sees every on-cadence row of its step, never the
+        // off-cadence final row, so a longer resumed run writes the same bytes.
+        let interrupted = INTERRUPTED.load(Ordering::Relaxed);
+        if interrupted || opts.checkpoint_every.is_some_and(|n| world.step % n == 0) {
+            out.checkpoint(scene, &world, every, &checkpoint_path)?;
+        }
+        if last && !cadence {
+            out.write_row(scene, &world)?;
+        }
+        if interrupted && !last {
+            stopped = Some(Diagnosis {
+                kind: format!(
+                    "interrupted (SIGINT); resume with `fibresim run --resume {}`",
+                    checkpoint_path.display()
+                ),
+                step: world.step,
+                t: world.time(),
+                body: None,
+                quantity: "signal".into(),
+                value: 2.0,
+                limit: 0.0,
+            });
+            break;
         }
         if let Some(pb) = &pb {
             if world.step % tick == 0 {
@@ -123,42 +302,43 @@ fn run_with<R: Rotator>(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome> 
     if let Some(pb) = pb {
         pb.finish_and_clear();
     }
-    energy.flush()?;
-    if let Some(o) = &mut orient {
+    out.energy.flush()?;
+    if let Some(o) = &mut out.orient {
         o.flush()?;
     }
 
-    let (ref_err, ref_x_err) = match reference_at(&world) {
+    let stats = out.energy.stats;
+    let (ref_err, ref_x_err) = match scene.reference.as_ref() {
         Some(r) if stopped.is_none() => {
+            let q_ref = r.orientation(world.time(), scene.initial[0].rot.q);
             let q = world.states[0].rot.q;
             let ax = (q * glam::DVec3::X).x;
-            let rx = (r * glam::DVec3::X).x;
+            let rx = (q_ref * glam::DVec3::X).x;
             (
-                Some(crate::math::geodesic_angle(q, r)),
+                Some(crate::math::geodesic_angle(q, q_ref)),
                 Some(((ax - rx) / rx).abs() * 100.0),
             )
         }
         _ => (None, None),
     };
-    let steps_done = world.step;
-    let body_steps = (steps_done as f64 * scene.bodies.len() as f64).max(1.0);
+    let body_steps = ((world.step - first_step) as f64 * scene.bodies.len() as f64).max(1.0);
     let summary = Summary {
         scenario: scene.source.clone(),
         rotator: R::INFO.name.to_string(),
         dt: sim.dt,
-        steps: steps_done,
+        steps: world.step,
         steps_planned: sim.steps,
         t_end: sim.t_end(),
         every,
         bodies: scene.bodies.len(),
         wall_s: wall,
         ns_per_body_step: wall * 1e9 / body_steps,
-        energy_error_max_pct: finite(energy.max_error).filter(|_| energy.last_error.is_finite()),
-        energy_error_final_pct: finite(energy.last_error),
-        energy_error_full_max_pct: finite(energy.max_error_full)
-            .filter(|_| energy.last_error_full.is_finite()),
-        energy_error_full_final_pct: finite(energy.last_error_full),
-        max_overlap_ratio: world.contacts.is_some().then_some(energy.max_overlap_ratio),
+        energy_error_max_pct: finite(stats.max_error).filter(|_| stats.last_error.is_finite()),
+        energy_error_final_pct: finite(stats.last_error),
+        energy_error_full_max_pct: finite(stats.max_error_full)
+            .filter(|_| stats.last_error_full.is_finite()),
+        energy_error_full_final_pct: finite(stats.last_error_full),
+        max_overlap_ratio: world.contacts.is_some().then_some(stats.max_overlap_ratio),
         reference_error_final_rad: ref_err,
         reference_x_error_pct: ref_x_err,
         stopped: stopped.clone(),
@@ -177,6 +357,7 @@ fn run_with<R: Rotator>(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome> 
     };
     summary.write(&opts.out_dir.join("summary.json"))?;
     match stopped {
+        Some(d) if d.quantity == "signal" => Err(Error::Interrupted(d)),
         Some(d) => Err(Error::Unstable(d)),
         None => Ok(RunOutcome { summary }),
     }
@@ -188,11 +369,11 @@ fn run_with<R: Rotator>(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome> 
 pub fn integrate_observed<'s>(
     scene: &'s Scene,
     mut observe: impl FnMut(&World<'s>),
-) -> std::result::Result<World<'s>, crate::error::Diagnosis> {
+) -> std::result::Result<World<'s>, Diagnosis> {
     fn go<'s, R: Rotator>(
         scene: &'s Scene,
         observe: &mut dyn FnMut(&World<'s>),
-    ) -> std::result::Result<World<'s>, crate::error::Diagnosis> {
+    ) -> std::result::Result<World<'s>, Diagnosis> {
         let mut world = World::new(scene);
         while world.step < scene.sim.steps {
             world.step::<R>()?;
@@ -209,7 +390,7 @@ pub fn integrate(
     scene: &Scene,
     kind: crate::integrate::rotate::RotatorKind,
     dt: f64,
-) -> std::result::Result<Vec<crate::body::BodyState>, crate::error::Diagnosis> {
+) -> std::result::Result<Vec<crate::body::BodyState>, Diagnosis> {
     let mut s = scene.clone();
     let steps = (scene.sim.t_end() / dt).round() as u64;
     s.sim = crate::scenario::SimParams {

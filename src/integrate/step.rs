@@ -60,6 +60,16 @@ impl<'s> World<'s> {
         w
     }
 
+    /// Put the world at `step` with `states` (resuming from a checkpoint): the
+    /// forces and the ledger are recomputed from the states, exactly as the
+    /// step that produced them did.
+    pub fn restore(&mut self, states: Vec<BodyState>, step: u64) {
+        self.states = states;
+        self.step = step;
+        self.compute_forces();
+        self.ledger = self.measure();
+    }
+
     fn measure(&self) -> Ledger {
         Ledger::measure(
             &self.scene.bodies,

@@ -39,11 +39,18 @@ pub const ENERGY_COLUMNS: [&str; 10] = [
 pub struct EnergyCsv {
     path: PathBuf,
     w: csv::Writer<BufWriter<File>>,
-    e0: f64,
-    e0_full: f64,
-    window_max: f64,
     with_contacts: bool,
-    window_overlap: f64,
+    pub stats: EnergyStats,
+}
+
+/// The running statistics behind `energy.csv` (kept in checkpoints).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EnergyStats {
+    pub e0: f64,
+    pub e0_full: f64,
+    /// Largest Eq. 65 error and δ/D since the previous row.
+    pub window_max: f64,
+    pub window_overlap: f64,
     /// Largest δ/D over the whole run (contact scenes).
     pub max_overlap_ratio: f64,
     /// Largest Eq. 65 and full-budget errors over the whole run (every step).
@@ -51,6 +58,71 @@ pub struct EnergyCsv {
     pub max_error_full: f64,
     pub last_error: f64,
     pub last_error_full: f64,
+}
+
+impl EnergyStats {
+    pub fn new(initial: &Ledger) -> Self {
+        EnergyStats {
+            e0: initial.total(),
+            e0_full: initial.total_full(),
+            window_max: 0.0,
+            window_overlap: 0.0,
+            max_overlap_ratio: 0.0,
+            max_error: 0.0,
+            max_error_full: 0.0,
+            last_error: f64::NAN,
+            last_error_full: f64::NAN,
+        }
+    }
+
+    pub fn to_array(&self) -> [f64; 9] {
+        [
+            self.e0,
+            self.e0_full,
+            self.window_max,
+            self.window_overlap,
+            self.max_overlap_ratio,
+            self.max_error,
+            self.max_error_full,
+            self.last_error,
+            self.last_error_full,
+        ]
+    }
+
+    pub fn from_array(a: [f64; 9]) -> Self {
+        EnergyStats {
+            e0: a[0],
+            e0_full: a[1],
+            window_max: a[2],
+            window_overlap: a[3],
+            max_overlap_ratio: a[4],
+            max_error: a[5],
+            max_error_full: a[6],
+            last_error: a[7],
+            last_error_full: a[8],
+        }
+    }
+}
+
+/// Open `path` for appending after cutting it to `len` bytes (resume).
+fn reopen(path: &Path, len: u64) -> Result<csv::Writer<BufWriter<File>>> {
+    use std::io::{Seek, SeekFrom};
+    let mut f = std::fs::OpenOptions::new()
+        .write(true)
+        .open(path)
+        .map_err(|e| Error::io(path, e))?;
+    f.set_len(len).map_err(|e| Error::io(path, e))?;
+    f.seek(SeekFrom::End(0)).map_err(|e| Error::io(path, e))?;
+    Ok(csv::WriterBuilder::new()
+        .has_headers(false)
+        .from_writer(BufWriter::new(f)))
+}
+
+/// Flushed length of a writer's file, for checkpoints.
+fn flushed_len(path: &Path, w: &mut csv::Writer<BufWriter<File>>) -> Result<u64> {
+    w.flush().map_err(|e| Error::io(path, e))?;
+    let f = w.get_ref().get_ref();
+    Ok(f.metadata().map_err(|e| Error::io(path, e))?.len())
 }
 
 impl EnergyCsv {
@@ -66,68 +138,82 @@ impl EnergyCsv {
         Ok(EnergyCsv {
             path,
             w,
-            e0: initial.total(),
-            e0_full: initial.total_full(),
-            window_max: 0.0,
             with_contacts,
-            window_overlap: 0.0,
-            max_overlap_ratio: 0.0,
-            max_error: 0.0,
-            max_error_full: 0.0,
-            last_error: f64::NAN,
-            last_error_full: f64::NAN,
+            stats: EnergyStats::new(initial),
         })
     }
 
-    /// Account for one step; `write` says whether this step gets a row.
-    pub fn observe(
+    /// Continue a file written up to `len` bytes, with the statistics it had then.
+    pub fn resume(
+        path: PathBuf,
+        len: u64,
+        stats: EnergyStats,
+        with_contacts: bool,
+    ) -> Result<Self> {
+        Ok(EnergyCsv {
+            w: reopen(&path, len)?,
+            path,
+            with_contacts,
+            stats,
+        })
+    }
+
+    pub fn flushed_len(&mut self) -> Result<u64> {
+        flushed_len(&self.path, &mut self.w)
+    }
+
+    /// Account for one step (every step, so the maxima see everything).
+    pub fn account(&mut self, l: &Ledger, contacts: Option<ContactStats>) {
+        let c = contacts.unwrap_or_default();
+        let s = &mut self.stats;
+        s.window_overlap = s.window_overlap.max(c.max_overlap_ratio);
+        s.max_overlap_ratio = s.max_overlap_ratio.max(c.max_overlap_ratio);
+        let err = error_pct(l.total(), s.e0);
+        let err_full = error_pct(l.total_full(), s.e0_full);
+        // f64::max ignores NaN, so the maxima stay NaN-free for E_0 = 0 scenes.
+        s.window_max = s.window_max.max(err);
+        s.max_error = s.max_error.max(err);
+        s.max_error_full = s.max_error_full.max(err_full);
+        s.last_error = err;
+        s.last_error_full = err_full;
+    }
+
+    /// Write the row of the step last accounted for, and start a new window.
+    pub fn write_row(
         &mut self,
         step: u64,
         t: f64,
         l: &Ledger,
         contacts: Option<ContactStats>,
-        write: bool,
     ) -> Result<()> {
-        let c = contacts.unwrap_or_default();
-        self.window_overlap = self.window_overlap.max(c.max_overlap_ratio);
-        self.max_overlap_ratio = self.max_overlap_ratio.max(c.max_overlap_ratio);
-        let err = error_pct(l.total(), self.e0);
-        let err_full = error_pct(l.total_full(), self.e0_full);
-        // f64::max ignores NaN, so the maxima stay NaN-free for E_0 = 0 scenes.
-        self.window_max = self.window_max.max(err);
-        self.max_error = self.max_error.max(err);
-        self.max_error_full = self.max_error_full.max(err_full);
-        self.last_error = err;
-        self.last_error_full = err_full;
-        if write {
-            let window = if err.is_nan() {
-                f64::NAN
-            } else {
-                self.window_max
-            };
-            let with_contacts = self.with_contacts;
-            let overlap = self.window_overlap;
-            Row::new(&mut self.w)
-                .u(step)
-                .and_then(|r| r.f(t))
-                .and_then(|r| r.f(l.gravity))
-                .and_then(|r| r.f(l.translation))
-                .and_then(|r| r.f(l.rotation))
-                .and_then(|r| r.f(l.elastic))
-                .and_then(|r| r.f(l.total()))
-                .and_then(|r| r.f(err))
-                .and_then(|r| r.f(err_full))
-                .and_then(|r| r.f(window))
-                .and_then(|r| {
-                    if with_contacts {
-                        r.u(c.touching as u64)?.f(overlap)?;
-                    }
-                    r.end()
-                })
-                .map_err(|e| csv_err(&self.path, e))?;
-            self.window_max = 0.0;
-            self.window_overlap = 0.0;
-        }
+        let s = self.stats;
+        let window = if s.last_error.is_nan() {
+            f64::NAN
+        } else {
+            s.window_max
+        };
+        let touching = contacts.unwrap_or_default().touching as u64;
+        let with_contacts = self.with_contacts;
+        Row::new(&mut self.w)
+            .u(step)
+            .and_then(|r| r.f(t))
+            .and_then(|r| r.f(l.gravity))
+            .and_then(|r| r.f(l.translation))
+            .and_then(|r| r.f(l.rotation))
+            .and_then(|r| r.f(l.elastic))
+            .and_then(|r| r.f(l.total()))
+            .and_then(|r| r.f(s.last_error))
+            .and_then(|r| r.f(s.last_error_full))
+            .and_then(|r| r.f(window))
+            .and_then(|r| {
+                if with_contacts {
+                    r.u(touching)?.f(s.window_overlap)?;
+                }
+                r.end()
+            })
+            .map_err(|e| csv_err(&self.path, e))?;
+        self.stats.window_max = 0.0;
+        self.stats.window_overlap = 0.0;
         Ok(())
     }
 
@@ -159,6 +245,19 @@ impl OrientationCsv {
             w,
             with_reference,
         })
+    }
+
+    /// Continue a file written up to `len` bytes.
+    pub fn resume(path: PathBuf, len: u64, with_reference: bool) -> Result<Self> {
+        Ok(OrientationCsv {
+            w: reopen(&path, len)?,
+            path,
+            with_reference,
+        })
+    }
+
+    pub fn flushed_len(&mut self) -> Result<u64> {
+        flushed_len(&self.path, &mut self.w)
     }
 
     pub fn write(

@@ -3,10 +3,12 @@
 //! Numbers are written in their shortest round-trip form (ryu), so files are
 //! exact, compact and identical for identical runs.
 
+pub mod checkpoint;
 pub mod csv_out;
 pub mod summary;
 
-pub use csv_out::{EnergyCsv, OrientationCsv};
+pub use checkpoint::Checkpoint;
+pub use csv_out::{EnergyCsv, EnergyStats, OrientationCsv};
 pub use summary::{BodyFinal, Summary};
 
 /// Default output cadence: at most 2e4 rows (well under the ~1e5 budget, so the

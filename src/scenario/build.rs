@@ -141,6 +141,8 @@ impl ClosedForm {
 pub struct Scene {
     /// Where it came from (a path, or `<built-in>`), for messages.
     pub source: String,
+    /// The scenario text as read (embedded in checkpoints).
+    pub text: String,
     pub sim: SimParams,
     pub bodies: Vec<Body>,
     pub initial: Vec<BodyState>,
@@ -179,7 +181,9 @@ pub fn parse_str(text: &str, source: &str) -> Result<Scene> {
         let msg = msg.trim_end().replace('\n', "\n  ");
         Error::bad(source, "TOML", msg)
     })?;
-    build(raw, source)
+    let mut scene = build(raw, source)?;
+    scene.text = text.to_string();
+    Ok(scene)
 }
 
 struct Ctx<'a> {
@@ -326,6 +330,7 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
     Ok(Scene {
         guards,
         source: src.to_string(),
+        text: String::new(),
         sim,
         bodies,
         initial,
