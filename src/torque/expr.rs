@@ -77,6 +77,7 @@ impl Expr {
         let mut p = Parser {
             s: text.as_bytes(),
             i: 0,
+            depth: 0,
         };
         let e = p.expr()?;
         p.skip_ws();
@@ -142,7 +143,11 @@ impl Expr {
 struct Parser<'a> {
     s: &'a [u8],
     i: usize,
+    /// Nesting depth, bounded so hostile input cannot overflow the stack.
+    depth: usize,
 }
+
+const MAX_DEPTH: usize = 64;
 
 impl Parser<'_> {
     fn skip_ws(&mut self) {
@@ -194,6 +199,16 @@ impl Parser<'_> {
     }
 
     fn unary(&mut self) -> Result<Expr, String> {
+        self.depth += 1;
+        if self.depth > MAX_DEPTH {
+            return Err(format!("expression nested deeper than {MAX_DEPTH} levels"));
+        }
+        let r = self.unary_inner();
+        self.depth -= 1;
+        r
+    }
+
+    fn unary_inner(&mut self) -> Result<Expr, String> {
         match self.peek() {
             Some(b'-') => {
                 self.i += 1;
@@ -321,5 +336,10 @@ mod tests {
         assert!(Expr::parse("1 2").unwrap_err().contains("unexpected"));
         assert!(Expr::parse("").is_err());
         assert!(Expr::parse("e5").unwrap_err().contains("unknown name"));
+        let deep = "(".repeat(100_000) + "t" + &")".repeat(100_000);
+        assert!(Expr::parse(&deep).unwrap_err().contains("nested deeper"));
+        assert!(Expr::parse(&"-".repeat(100_000))
+            .unwrap_err()
+            .contains("nested deeper"));
     }
 }
