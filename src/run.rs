@@ -31,6 +31,17 @@ pub struct RunOutcome {
 
 /// Run `scene` with its rotator (`scene.sim.rotator`).
 pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome> {
+    run_with_bar(scene, opts, progress_bar(scene.sim.steps, opts.progress))
+}
+
+/// [`run`] drawing its progress on `bar` (e.g. one line of a study's
+/// `MultiProgress`) instead of its own; `opts.progress` is ignored. The bar's
+/// length is set to the step count, and it is cleared when the run ends.
+pub fn run_with_bar(
+    scene: &Scene,
+    opts: &RunOptions,
+    bar: Option<indicatif::ProgressBar>,
+) -> Result<RunOutcome> {
     std::fs::create_dir_all(&opts.out_dir).map_err(|e| {
         Error::bad(
             opts.out_dir.display().to_string(),
@@ -38,7 +49,10 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome> {
             format!("cannot create the output folder: {e}"),
         )
     })?;
-    with_rotator!(scene.sim.rotator, R => run_with::<R>(scene, opts))
+    if let Some(b) = &bar {
+        b.set_length(scene.sim.steps);
+    }
+    with_rotator!(scene.sim.rotator, R => run_with::<R>(scene, opts, bar))
 }
 
 fn progress_bar(steps: u64, enabled: bool) -> Option<indicatif::ProgressBar> {
@@ -55,7 +69,11 @@ fn progress_bar(steps: u64, enabled: bool) -> Option<indicatif::ProgressBar> {
     Some(pb)
 }
 
-fn run_with<R: Rotator>(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome> {
+fn run_with<R: Rotator>(
+    scene: &Scene,
+    opts: &RunOptions,
+    pb: Option<indicatif::ProgressBar>,
+) -> Result<RunOutcome> {
     let sim = &scene.sim;
     let every = opts
         .every
@@ -91,7 +109,6 @@ fn run_with<R: Rotator>(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome> 
     energy.observe(0, 0.0, &ledger(&world), true)?;
     write_orientation(&mut orient, &world)?;
 
-    let pb = progress_bar(sim.steps, opts.progress);
     let tick = (sim.steps / 1000).max(1);
     let start = Instant::now();
     let mut stopped = None;
