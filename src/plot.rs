@@ -242,6 +242,10 @@ pub fn render(chart: &Chart, path: &Path) -> Result<(), PlotError> {
                 let mut encoder = png::Encoder::new(&mut out, WIDTH, HEIGHT);
                 encoder.set_color(png::ColorType::Rgb);
                 encoder.set_depth(png::BitDepth::Eight);
+                // Charts are flat colour: the best deflate level and adaptive
+                // filtering shrink them 2-3x for a few ms.
+                encoder.set_compression(png::Compression::Best);
+                encoder.set_adaptive_filter(png::AdaptiveFilterType::Adaptive);
                 let mut writer = encoder.write_header().map_err(enc_err)?;
                 writer.write_image_data(&buf).map_err(enc_err)?;
                 writer.finish().map_err(enc_err)?;
