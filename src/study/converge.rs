@@ -683,8 +683,9 @@ fn figures(scene: &Scene, r: &ConvergeReport, opts: &ConvergeOptions) -> Result<
         [(1u32, "slope 1"), (2, "slope 2")]
             .iter()
             .filter(|(o, _)| low(*o).is_finite())
-            .map(|&(o, label)| {
-                reference_slope(label, o as f64, (dt_lo, dt_hi), (dt_hi, low(o) / 3.0))
+            .map(|&(o, label)| Series {
+                style: Style::Guide,
+                ..reference_slope(label, o as f64, (dt_lo, dt_hi), (dt_hi, low(o) / 3.0))
             })
             .collect()
     };
