@@ -24,6 +24,85 @@ pub enum Command {
     Check(CheckArgs),
     /// List the rotators with their equations, order and torque contract.
     Rotators,
+    /// Run several rotators on one scene at one time step (in parallel) and plot their errors against time.
+    Compare(CompareArgs),
+    /// Error against time step for each rotator: observed orders, convergence and work-precision figures.
+    Converge(ConvergeArgs),
+    /// Plot a column of one or more of fibresim's CSV files (one series per file).
+    Plot(PlotArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct CompareArgs {
+    /// Scenario TOML file.
+    pub scenario: PathBuf,
+    /// Comma-separated rotator names, `paper` (pcdm,scalar,euler,leapfrog) or `all`.
+    #[arg(long, default_value = "paper")]
+    pub rotators: String,
+    /// Time step, s [default: the scene's].
+    #[arg(long)]
+    pub dt: Option<f64>,
+    /// End time, s [default: the scene's].
+    #[arg(long = "t-end")]
+    pub t_end: Option<f64>,
+    /// Output folder [default: out/<scenario>/compare].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// No progress bars and no table on stdout.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct ConvergeArgs {
+    /// Scenario TOML file.
+    pub scenario: PathBuf,
+    /// Comma-separated rotator names, `paper` (pcdm,scalar,euler,leapfrog) or `all`.
+    #[arg(long, default_value = "paper")]
+    pub rotators: String,
+    /// Largest time step, s [default: 10x the scene's; 1e-5 for test case 4, where first-order schemes are still pre-asymptotic].
+    #[arg(long = "dt-max")]
+    pub dt_max: Option<f64>,
+    /// Smallest time step, s [default: the scene's / 10; 1e-7 for test case 4].
+    #[arg(long = "dt-min")]
+    pub dt_min: Option<f64>,
+    /// Number of time steps, geometric from dt-max to dt-min (each rounded to a whole multiple of the reference step).
+    #[arg(long, default_value_t = 5)]
+    pub points: usize,
+    /// End time, s [default: the scene's].
+    #[arg(long = "t-end")]
+    pub t_end: Option<f64>,
+    /// Scenes without a closed form: the rk4 reference step is dt-min / this.
+    #[arg(long = "ref-factor", default_value_t = 10.0)]
+    pub ref_factor: f64,
+    /// Output folder [default: out/<scenario>/converge].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// No progress bars and no table on stdout.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct PlotArgs {
+    /// CSV files (energy.csv, orientation.csv, convergence.csv, compare.csv, ...).
+    #[arg(required = true)]
+    pub files: Vec<PathBuf>,
+    /// Output figure, .png or .svg [default: next to the first file].
+    #[arg(short = 'o', long = "output")]
+    pub output: Option<PathBuf>,
+    /// Column to plot [default: energy_error_pct, err_rad or alpha_rad, whichever exists].
+    #[arg(long)]
+    pub column: Option<String>,
+    /// Column on the x axis [default: t, else dt].
+    #[arg(long)]
+    pub x: Option<String>,
+    /// Logarithmic y axis.
+    #[arg(long = "log-y")]
+    pub log_y: bool,
+    /// Logarithmic x axis.
+    #[arg(long = "log-x")]
+    pub log_x: bool,
 }
 
 #[derive(Debug, Args)]

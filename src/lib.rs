@@ -24,4 +24,5 @@ pub mod output;
 pub mod plot;
 pub mod run;
 pub mod scenario;
+pub mod study;
 pub mod torque;

@@ -3,7 +3,7 @@
 
 use clap::Parser;
 use fibresim::advice::advise;
-use fibresim::cli::{CheckArgs, Cli, Command, RunArgs};
+use fibresim::cli::{CheckArgs, Cli, Command, CompareArgs, ConvergeArgs, PlotArgs, RunArgs};
 use fibresim::error::{Error, Result};
 use fibresim::integrate::rotate::RotatorKind;
 use fibresim::output::Checkpoint;
@@ -26,6 +26,9 @@ fn main() {
             print_rotators();
             Ok(())
         }
+        Command::Compare(args) => cmd_compare(args),
+        Command::Converge(args) => cmd_converge(args),
+        Command::Plot(args) => cmd_plot(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e}");
@@ -221,4 +224,66 @@ fn cmd_run(args: RunArgs) -> Result<()> {
         _ => {}
     }
     outcome.map(|_| ())
+}
+
+fn study_scene(path: &std::path::Path, sub: &str) -> Result<(Scene, PathBuf)> {
+    let stem = path
+        .file_stem()
+        .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+    Ok((
+        scenario::load(path)?,
+        PathBuf::from("out").join(stem).join(sub),
+    ))
+}
+
+fn cmd_compare(args: CompareArgs) -> Result<()> {
+    use fibresim::study::compare::{compare, print_report, CompareOptions};
+    let (scene, default_out) = study_scene(&args.scenario, "compare")?;
+    let opts = CompareOptions {
+        rotators: fibresim::study::parse_rotators(Some(&args.rotators))?,
+        dt: args.dt,
+        t_end: args.t_end,
+        out_dir: args.out.unwrap_or(default_out),
+        progress: !args.quiet,
+    };
+    let report = compare(&scene, &opts)?;
+    if !args.quiet {
+        print_report(&report);
+        println!("-> {}", opts.out_dir.display());
+    }
+    Ok(())
+}
+
+fn cmd_converge(args: ConvergeArgs) -> Result<()> {
+    use fibresim::study::converge::{converge, print_report, ConvergeOptions};
+    let (scene, default_out) = study_scene(&args.scenario, "converge")?;
+    let opts = ConvergeOptions {
+        rotators: fibresim::study::parse_rotators(Some(&args.rotators))?,
+        dt_max: args.dt_max,
+        dt_min: args.dt_min,
+        points: args.points,
+        t_end: args.t_end,
+        ref_factor: args.ref_factor,
+        out_dir: args.out.unwrap_or(default_out),
+        progress: !args.quiet,
+    };
+    let report = converge(&scene, &opts)?;
+    if !args.quiet {
+        print_report(&report);
+        println!("-> {}", opts.out_dir.display());
+    }
+    Ok(())
+}
+
+fn cmd_plot(args: PlotArgs) -> Result<()> {
+    let out = fibresim::study::csvplot::plot_files(&fibresim::study::csvplot::PlotOptions {
+        files: args.files,
+        out: args.output,
+        column: args.column,
+        x: args.x,
+        log_x: args.log_x,
+        log_y: args.log_y,
+    })?;
+    println!("{}", out.display());
+    Ok(())
 }

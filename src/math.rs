@@ -66,6 +66,19 @@ pub fn exp_map(r: DVec3) -> DQuat {
     DQuat::from_xyzw(k * r.x, k * r.y, k * r.z, c)
 }
 
+/// Geodesic angle between two orientations, `2 acos|a·b|`, in radians, in `[0, π]`.
+/// Computed as `2 atan2(|vec(a* b)|, |scalar(a* b)|)`, which keeps full relative
+/// precision for tiny angles where `acos` near 1 would lose half the digits.
+pub fn geodesic_angle(a: DQuat, b: DQuat) -> f64 {
+    let d = a.conjugate() * b;
+    2.0 * DVec3::new(d.x, d.y, d.z).length().atan2(d.w.abs())
+}
+
+/// Angle between two vectors, robust for tiny and near-π angles.
+pub fn angle_between(a: DVec3, b: DVec3) -> f64 {
+    a.cross(b).length().atan2(a.dot(b))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -92,17 +105,4 @@ mod tests {
         assert!(worst < 4e-16, "{worst:e}");
         assert_eq!(exp_map(DVec3::ZERO), DQuat::IDENTITY);
     }
-}
-
-/// Geodesic angle between two orientations, `2 acos|a·b|`, in radians, in `[0, π]`.
-/// Computed as `2 atan2(|vec(a* b)|, |scalar(a* b)|)`, which keeps full relative
-/// precision for tiny angles where `acos` near 1 would lose half the digits.
-pub fn geodesic_angle(a: DQuat, b: DQuat) -> f64 {
-    let d = a.conjugate() * b;
-    2.0 * DVec3::new(d.x, d.y, d.z).length().atan2(d.w.abs())
-}
-
-/// Angle between two vectors, robust for tiny and near-π angles.
-pub fn angle_between(a: DVec3, b: DVec3) -> f64 {
-    a.cross(b).length().atan2(a.dot(b))
 }

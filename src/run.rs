@@ -53,6 +53,31 @@ pub fn run_from(
     opts: &RunOptions,
     resume: Option<&Checkpoint>,
 ) -> Result<RunOutcome> {
+    run_inner(
+        scene,
+        opts,
+        resume,
+        progress_bar(scene.sim.steps, opts.progress),
+    )
+}
+
+/// [`run`] drawing its progress on `bar` (e.g. one line of a study's
+/// `MultiProgress`) instead of its own; `opts.progress` is ignored. The bar's
+/// length is set to the step count, and it is cleared when the run ends.
+pub fn run_with_bar(
+    scene: &Scene,
+    opts: &RunOptions,
+    bar: Option<indicatif::ProgressBar>,
+) -> Result<RunOutcome> {
+    run_inner(scene, opts, None, bar)
+}
+
+fn run_inner(
+    scene: &Scene,
+    opts: &RunOptions,
+    resume: Option<&Checkpoint>,
+    bar: Option<indicatif::ProgressBar>,
+) -> Result<RunOutcome> {
     std::fs::create_dir_all(&opts.out_dir).map_err(|e| {
         Error::bad(
             opts.out_dir.display().to_string(),
@@ -60,7 +85,10 @@ pub fn run_from(
             format!("cannot create the output folder: {e}"),
         )
     })?;
-    with_rotator!(scene.sim.rotator, R => run_with::<R>(scene, opts, resume))
+    if let Some(b) = &bar {
+        b.set_length(scene.sim.steps);
+    }
+    with_rotator!(scene.sim.rotator, R => run_with::<R>(scene, opts, resume, bar))
 }
 
 /// Rebuild the scene a checkpoint was taken from, with its δt, rotator, cadence
@@ -242,6 +270,7 @@ fn run_with<R: Rotator>(
     scene: &Scene,
     opts: &RunOptions,
     resume: Option<&Checkpoint>,
+    pb: Option<indicatif::ProgressBar>,
 ) -> Result<RunOutcome> {
     let sim = &scene.sim;
     let every = opts
@@ -253,7 +282,6 @@ fn run_with<R: Rotator>(
     let checkpoint_path = opts.out_dir.join(CHECKPOINT_FILE);
     let first_step = world.step;
 
-    let pb = progress_bar(sim.steps, opts.progress);
     let tick = (sim.steps / 1000).max(1);
     let start = Instant::now();
     let mut stopped: Option<Diagnosis> = None;

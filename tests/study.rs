@@ -1,0 +1,385 @@
+//! The study commands: `compare`, `converge`, `plot` (issue 4). Short runs only.
+
+use fibresim::study::fit::fit_order;
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn fibresim(args: &[&str], threads: Option<usize>) -> Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_fibresim"));
+    c.args(args).current_dir(env!("CARGO_MANIFEST_DIR"));
+    if let Some(n) = threads {
+        c.env("RAYON_NUM_THREADS", n.to_string());
+    }
+    c.output().expect("binary runs")
+}
+
+fn ok(o: &Output) {
+    assert!(
+        o.status.success(),
+        "exit {:?}\nstdout:\n{}\nstderr:\n{}",
+        o.status.code(),
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+/// Header and rows of a CSV file, checking every row has the header's width.
+fn csv(p: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut r = csv::Reader::from_path(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    let h: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
+    let rows: Vec<Vec<String>> = r
+        .records()
+        .map(|x| x.unwrap().iter().map(String::from).collect())
+        .collect();
+    for row in &rows {
+        assert_eq!(row.len(), h.len(), "{}", p.display());
+    }
+    (h, rows)
+}
+
+fn col(h: &[String], rows: &[Vec<String>], name: &str) -> Vec<String> {
+    let i = h
+        .iter()
+        .position(|c| c == name)
+        .unwrap_or_else(|| panic!("no {name}"));
+    rows.iter().map(|r| r[i].clone()).collect()
+}
+
+fn is_png(p: &Path) {
+    let b = std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    assert_eq!(&b[..8], b"\x89PNG\r\n\x1a\n", "{}", p.display());
+}
+
+fn svg_with(p: &Path, labels: &[&str]) {
+    let s = std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    assert!(s.contains("<svg"), "{}", p.display());
+    for l in labels {
+        assert!(s.contains(l), "{} lacks label {l}", p.display());
+    }
+}
+
+const FREE_SPIN: &str = r#"
+[simulation]
+dt = 1e-4
+t_end = 0.02
+[[body]]
+shape = "fibre"
+diameter = 0.01
+length = 0.025
+density = 1100.0
+position = [0.0, 0.0, 0.0]
+axis = [0.6, 0.8, 0.0]
+angular_velocity = [40.0, 25.0, -10.0]
+"#;
+
+#[test]
+fn order_fit_recovers_exact_order() {
+    let dts = [1e-3, 4e-4, 1e-4, 3e-5];
+    for p in [0.5, 1.0, 2.0, 3.0] {
+        let errs: Vec<f64> = dts.iter().map(|d: &f64| 0.7 * d.powf(p)).collect();
+        let f = fit_order(&dts, &errs).unwrap();
+        assert!((f.order - p).abs() < 1e-12, "order {p}: {f:?}");
+        assert!((f.r2 - 1.0).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn converge_torque_fibre_outputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().to_str().unwrap();
+    let o = fibresim(
+        &[
+            "converge",
+            "scenarios/torque_fibre.toml",
+            "--t-end",
+            "0.01",
+            "--dt-max",
+            "1e-4",
+            "--dt-min",
+            "1e-5",
+            "--points",
+            "3",
+            "--ref-factor",
+            "4",
+            "--rotators",
+            "pcdm,euler",
+            "--out",
+            out,
+        ],
+        None,
+    );
+    ok(&o);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("Richardson"), "{stdout}");
+    let (h, rows) = csv(&dir.path().join("convergence.csv"));
+    assert_eq!(
+        h,
+        [
+            "rotator",
+            "dt",
+            "steps",
+            "alpha_rad",
+            "geodesic_rad",
+            "x_error_pct",
+            "energy_error_max_pct",
+            "energy_error_final_pct",
+            "wall_s",
+            "stopped"
+        ]
+    );
+    assert_eq!(rows.len(), 6);
+    // Each δt divides the end time exactly.
+    for (dt, steps) in col(&h, &rows, "dt").iter().zip(col(&h, &rows, "steps")) {
+        let dt: f64 = dt.parse().unwrap();
+        let n: f64 = steps.parse().unwrap();
+        assert!((dt * n - 0.01).abs() < 1e-12);
+    }
+    for a in col(&h, &rows, "alpha_rad") {
+        assert!(a.parse::<f64>().unwrap() > 0.0);
+    }
+    let (h, rows) = csv(&dir.path().join("orders.csv"));
+    assert_eq!(rows.len(), 4);
+    let orders = col(&h, &rows, "order");
+    let pcdm: f64 = orders[0].parse().unwrap();
+    assert!((pcdm - 2.0).abs() < 0.3, "pcdm order {pcdm}");
+    let (h, rows) = csv(&dir.path().join("reference.csv"));
+    assert_eq!(col(&h, &rows, "kind"), ["rk4"]);
+    for stem in ["convergence", "convergence_geodesic", "work_precision"] {
+        is_png(&dir.path().join(format!("{stem}.png")));
+        svg_with(&dir.path().join(format!("{stem}.svg")), &["pcdm", "euler"]);
+    }
+    svg_with(&dir.path().join("convergence.svg"), &["slope 1", "slope 2"]);
+}
+
+#[test]
+fn converge_closed_form_and_energy_scenes() {
+    // Test case 3: closed form, with Table 2's x-error.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().to_str().unwrap();
+    ok(&fibresim(
+        &[
+            "converge",
+            "scenarios/torque_sphere.toml",
+            "--t-end",
+            "0.1",
+            "--dt-max",
+            "1e-3",
+            "--dt-min",
+            "1e-4",
+            "--points",
+            "3",
+            "-q",
+            "--out",
+            out,
+        ],
+        None,
+    ));
+    let (h, rows) = csv(&dir.path().join("convergence.csv"));
+    assert_eq!(rows.len(), 12);
+    for x in col(&h, &rows, "x_error_pct") {
+        assert!(x.parse::<f64>().unwrap().is_finite());
+    }
+    is_png(&dir.path().join("convergence_x_error.png"));
+
+    // No torque, no reference: the Eq. 65 energy error.
+    let scene = dir.path().join("spin.toml");
+    std::fs::write(&scene, FREE_SPIN).unwrap();
+    let out2 = dir.path().join("spin");
+    ok(&fibresim(
+        &[
+            "converge",
+            scene.to_str().unwrap(),
+            "--points",
+            "3",
+            "-q",
+            "--out",
+            out2.to_str().unwrap(),
+        ],
+        None,
+    ));
+    let (h, rows) = csv(&out2.join("convergence.csv"));
+    for (a, e) in col(&h, &rows, "alpha_rad")
+        .iter()
+        .zip(col(&h, &rows, "energy_error_max_pct"))
+    {
+        assert!(a.is_empty());
+        assert!(e.parse::<f64>().unwrap() >= 0.0);
+    }
+    is_png(&out2.join("convergence.png"));
+}
+
+/// `compare` writes the same per-run files and figure with 1 and 2 threads.
+/// compare.csv holds wall times, so it is checked for shape only.
+#[test]
+fn compare_is_deterministic_across_thread_counts() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("spin.toml");
+    std::fs::write(&scene, FREE_SPIN).unwrap();
+    let cases = [
+        ("scenarios/torque_fibre.toml", "0.005", "1e-5"),
+        ("scenarios/torque_sphere.toml", "0.1", "1e-3"),
+        (scene.to_str().unwrap(), "0.02", "1e-4"),
+    ];
+    for (k, (scenario, t_end, dt)) in cases.iter().enumerate() {
+        let run = |threads: usize| {
+            let out = dir.path().join(format!("c{k}_{threads}"));
+            ok(&fibresim(
+                &[
+                    "compare",
+                    scenario,
+                    "--rotators",
+                    "all",
+                    "--t-end",
+                    t_end,
+                    "--dt",
+                    dt,
+                    "-q",
+                    "--out",
+                    out.to_str().unwrap(),
+                ],
+                Some(threads),
+            ));
+            out
+        };
+        let (a, b) = (run(1), run(2));
+        let (h, rows) = csv(&a.join("compare.csv"));
+        assert_eq!(rows.len(), 7, "{scenario}");
+        assert_eq!(
+            h,
+            [
+                "rotator",
+                "metric",
+                "max_error",
+                "final_error",
+                "wall_s",
+                "ns_per_body_step",
+                "stopped"
+            ]
+        );
+        assert_eq!(col(&h, &rows, "max_error"), {
+            let (h2, r2) = csv(&b.join("compare.csv"));
+            col(&h2, &r2, "max_error")
+        });
+        let mut files = vec!["energy_error.svg".to_string()];
+        for r in col(&h, &rows, "rotator") {
+            files.push(format!("{r}/energy.csv"));
+            if k < 2 {
+                files.push(format!("{r}/orientation.csv"));
+            }
+        }
+        for f in &files {
+            let (x, y) = (
+                std::fs::read(a.join(f)).unwrap(),
+                std::fs::read(b.join(f)).unwrap(),
+            );
+            assert!(x == y, "{scenario}: {f} differs between 1 and 2 threads");
+        }
+        is_png(&a.join("energy_error.png"));
+        svg_with(&a.join("energy_error.svg"), &["pcdm", "leapfrog", "rk4"]);
+    }
+}
+
+#[test]
+fn compare_reports_unstable_runs() {
+    // scalar stops at the tan pole when |ω|δt/2 reaches π/2: 2000 rad/s, δt = 2e-3.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("fast.toml");
+    std::fs::write(
+        &scene,
+        FREE_SPIN
+            .replace("[40.0, 25.0, -10.0]", "[2000.0, 0.0, 0.0]")
+            .replace("dt = 1e-4", "dt = 2e-3"),
+    )
+    .unwrap();
+    let out = dir.path().join("c");
+    let o = fibresim(
+        &[
+            "compare",
+            scene.to_str().unwrap(),
+            "--rotators",
+            "scalar,pcdm",
+            "-q",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        None,
+    );
+    ok(&o);
+    let (h, rows) = csv(&out.join("compare.csv"));
+    let stopped = col(&h, &rows, "stopped");
+    assert!(stopped[0].contains("scalar"), "{stopped:?}");
+    // At ‖ω‖δt = 4 rad pcdm does not hit a pole, but its energy error may trip
+    // the energy guard; either way it is not the scalar diagnosis.
+    assert!(!stopped[1].contains("scalar"), "{stopped:?}");
+}
+
+#[test]
+fn plot_command() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("c");
+    ok(&fibresim(
+        &[
+            "compare",
+            "scenarios/torque_sphere.toml",
+            "--t-end",
+            "0.05",
+            "-q",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        None,
+    ));
+    let png = dir.path().join("p.png");
+    let svg = dir.path().join("p.svg");
+    let e1 = out.join("pcdm/energy.csv");
+    let e2 = out.join("euler/energy.csv");
+    let (e1, e2) = (e1.to_str().unwrap(), e2.to_str().unwrap());
+    ok(&fibresim(
+        &[
+            "plot",
+            e1,
+            e2,
+            "--column",
+            "e_rot",
+            "-o",
+            png.to_str().unwrap(),
+        ],
+        None,
+    ));
+    is_png(&png);
+    let o1 = out.join("pcdm/orientation.csv");
+    let o2 = out.join("scalar/orientation.csv");
+    ok(&fibresim(
+        &[
+            "plot",
+            o1.to_str().unwrap(),
+            o2.to_str().unwrap(),
+            "--log-y",
+            "-o",
+            svg.to_str().unwrap(),
+        ],
+        None,
+    ));
+    svg_with(&svg, &["pcdm", "scalar", "err_rad"]);
+    let missing_col = fibresim(&["plot", e1, "--column", "nope"], None);
+    assert_eq!(missing_col.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&missing_col.stderr).contains("e_rot"));
+    let missing_file = fibresim(&["plot", "no/such.csv"], None);
+    assert_eq!(missing_file.status.code(), Some(2));
+    let bad_x = fibresim(&["plot", e1, "--x", "nope"], None);
+    assert_eq!(bad_x.status.code(), Some(2));
+}
+
+#[test]
+fn bad_rotator_list_is_bad_input() {
+    let o = fibresim(
+        &[
+            "compare",
+            "scenarios/torque_sphere.toml",
+            "--rotators",
+            "pcdm,nope",
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(2));
+}
