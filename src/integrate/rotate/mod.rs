@@ -18,6 +18,7 @@
 
 mod direct;
 mod euler;
+mod frozen;
 mod leapfrog;
 mod pcdm;
 mod rk4;
@@ -25,6 +26,7 @@ mod scalar;
 
 pub use direct::Direct;
 pub use euler::Euler;
+pub use frozen::Frozen;
 pub use leapfrog::Leapfrog;
 pub use pcdm::{Pcdm, PcdmStart};
 pub use rk4::Rk4;
@@ -115,9 +117,12 @@ pub enum RotatorKind {
     PcdmStart,
     /// Classical 4th-order Runge–Kutta on (q, ω_b), projected to unit norm: the reference scheme for convergence studies.
     Rk4,
+    /// Diagnostic: no rotation at all (q and ω_b frozen, torque ignored), to separate the contact model's energy error from the rotators'.
+    Frozen,
 }
 
 impl RotatorKind {
+    /// Every integration scheme (the `frozen` diagnostic is not one).
     pub const ALL: [RotatorKind; 7] = [
         RotatorKind::Euler,
         RotatorKind::Leapfrog,
@@ -145,6 +150,7 @@ impl RotatorKind {
             RotatorKind::Pcdm => Pcdm::INFO,
             RotatorKind::PcdmStart => PcdmStart::INFO,
             RotatorKind::Rk4 => Rk4::INFO,
+            RotatorKind::Frozen => Frozen::INFO,
         }
     }
 
@@ -153,7 +159,10 @@ impl RotatorKind {
     }
 
     pub fn from_name(s: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|k| k.name() == s)
+        Self::ALL
+            .into_iter()
+            .chain([RotatorKind::Frozen])
+            .find(|k| k.name() == s)
     }
 }
 
@@ -196,6 +205,10 @@ macro_rules! with_rotator {
             }
             RotatorKind::Rk4 => {
                 type $R = Rk4;
+                $body
+            }
+            RotatorKind::Frozen => {
+                type $R = Frozen;
                 $body
             }
         }

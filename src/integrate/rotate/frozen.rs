@@ -1,0 +1,33 @@
+//! No rotation at all: `q` and `ω_b` stay as they start, torques are ignored.
+//!
+//! A diagnostic, not a scheme: with rotation frozen, the energy error of a
+//! contact scene is that of velocity Verlet and the contact model alone, which
+//! separates their share from the rotators' (README, test cases 1–2).
+
+use super::{Rotator, RotatorFault, RotatorInfo};
+use crate::body::{Inertia, RotState};
+use glam::{DQuat, DVec3};
+
+pub struct Frozen;
+
+impl Rotator for Frozen {
+    const INFO: RotatorInfo = RotatorInfo {
+        name: "frozen",
+        equations: "diagnostic (no rotation)",
+        order: 0,
+        torque_evals: 0,
+        torque_contract: "never asks for torque",
+        kick_drift_kick: false,
+    };
+
+    #[inline]
+    fn advance<T: Fn(f64, DQuat) -> DVec3>(
+        _rot: &mut RotState,
+        _inertia: &Inertia,
+        _torque: T,
+        _t_n: f64,
+        _dt: f64,
+    ) -> Result<(), RotatorFault> {
+        Ok(())
+    }
+}
