@@ -221,7 +221,7 @@ fn open_outputs(
             Ok(out)
         }
         Some(c) => {
-            if c.states.len() != scene.bodies.len() || c.energy_stats.len() != 9 {
+            if c.states.len() != scene.bodies.len() || c.energy_stats.len() != 10 {
                 return Err(Error::bad(
                     "checkpoint",
                     "states",
@@ -234,7 +234,7 @@ fn open_outputs(
                 .map(|s| checkpoint::state_from_bits(s))
                 .collect::<Result<Vec<_>>>()?;
             world.restore(states, c.step);
-            let mut a = [0.0; 9];
+            let mut a = [0.0; 10];
             for (x, s) in a.iter_mut().zip(&c.energy_stats) {
                 *x = unbits(s, "energy_stats")?;
             }

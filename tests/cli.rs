@@ -55,7 +55,7 @@ fn run_writes_the_documented_files() {
     assert!(o.status.success(), "{}", stderr(&o));
     let energy = read(&out.join("energy.csv"));
     assert!(energy.starts_with(
-        "step,t,e_grav,e_trans,e_rot,e_elastic,e_total,energy_error_pct,energy_error_full_pct,energy_error_window_max_pct\n"
+        "step,t,e_grav,e_trans,e_rot,e_elastic,e_total,energy_error_pct,energy_error_full_pct,energy_error_window_max_pct,energy_error_full_window_max_pct\n"
     ));
     assert_eq!(
         energy.lines().count(),

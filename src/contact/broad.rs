@@ -32,9 +32,21 @@ fn overlaps(a: &(DVec3, DVec3), b: &(DVec3, DVec3)) -> bool {
     a.0.cmple(b.1).all() && b.0.cmple(a.1).all()
 }
 
-/// Appends all pairs `(i, j)`, `i < j`, whose closed boxes overlap, sorted.
-/// `out` is cleared first.
+/// All pairs `(i, j)`, `i < j`, whose closed boxes overlap, sorted; `out`
+/// is cleared first. Allocates a sort buffer for large `n`: use
+/// [`candidate_pairs_with`] to reuse one across steps.
 pub fn candidate_pairs(aabbs: &[(DVec3, DVec3)], out: &mut Vec<(u32, u32)>) {
+    let mut order = Vec::new();
+    candidate_pairs_with(aabbs, &mut order, out);
+}
+
+/// [`candidate_pairs`] with a caller-owned sort buffer (no allocation once
+/// the buffers have grown).
+pub fn candidate_pairs_with(
+    aabbs: &[(DVec3, DVec3)],
+    order: &mut Vec<u32>,
+    out: &mut Vec<(u32, u32)>,
+) {
     out.clear();
     let n = aabbs.len();
     if n <= BRUTE_FORCE_MAX {
@@ -62,7 +74,8 @@ pub fn candidate_pairs(aabbs: &[(DVec3, DVec3)], out: &mut Vec<(u32, u32)>) {
     } else {
         2
     };
-    let mut order: Vec<u32> = (0..n as u32).collect();
+    order.clear();
+    order.extend(0..n as u32);
     order.sort_unstable_by(|&i, &j| {
         aabbs[i as usize].0[k]
             .total_cmp(&aabbs[j as usize].0[k])

@@ -2,20 +2,30 @@
 //!
 //! Regimes, tested in this order (the capsule bound `r_a + r_b − d_seg ≤ 0`
 //! rejects first, since a cylinder lies inside the capsule of its axis):
-//! 1. **Near-coaxial end to end** (`|a×b| <` [`COAXIAL_SIN`], axis offset `< r_b`,
-//!    axes overlap axially by less than `min(r)`): A's facing end against B's
-//!    end-face plane with the fibre–wall face model (parry is wrong here).
+//! 1. **Near-coaxial end to end** (`|a×b| <` [`COAXIAL_SIN`], axes overlap
+//!    axially by less than `min(r)`, A's application point over B's face):
+//!    A's facing end against B's end-face plane with the fibre–wall face
+//!    model (smooth tilt torque; parry is wrong for exactly coaxial pairs).
 //! 2. **Side–side** (closest points of the axis segments interior to both, or
 //!    `|a×b| <` [`PARALLEL_SIN`] with overlapping axial projections): analytic,
 //!    see [`side_side`].
 //! 3. **End involved** (T-junction, rim on rim): `parry3d_f64::query::contact`
-//!    on two `Cylinder`s, checked (finite unit normal, `0 < depth ≤` capsule
-//!    bound); a rejected answer falls back to the analytic end–segment
-//!    contact and is counted in [`PARRY_REJECTS`].
+//!    on two `Cylinder`s gives the contact normal (its "no contact" verdict
+//!    is trusted); the depth is then recomputed exactly as
+//!    `min_n h_B(n) + h_A(−n)` (closed-form support functions) by a local
+//!    search seeded with parry's normal, see [`penetration`]. parry's own
+//!    depth is only checked ([`PARRY_REJECTS`] counts disagreements above
+//!    [`PARRY_REL_TOL`]): it is off by up to ~1e-8 m (EPA tolerance) and is
+//!    wrong for exactly coaxial pairs.
 //!
-//! Limits: the potential is continuous within regimes 1 and 2 but only
-//! approximately continuous across regime boundaries (parry's depth is not
-//! an analytic function of the pose).
+//! Limits: the potential is continuous within each regime; across regime
+//! boundaries it is continuous only approximately (the models agree to
+//! first order there, e.g. crossing point sliding off an end). A face lying
+//! exactly flat on a side (T-junction) is a cone point of the depth in the
+//! tilt angle (as an unsmoothed end face on a wall would be): the tilt
+//! torque is bang-bang there; no face blend is applied in regime 3 (a
+//! blended support is not convex and loses shallow end contacts). This
+//! needs the face normal exactly ⊥ the other axis, so it is non-generic.
 
 use super::fibre_wall::end_face_vs_plane;
 use super::{ContactPoint, FibreGeom};
@@ -30,6 +40,14 @@ use std::sync::atomic::{AtomicU64, Ordering};
 pub const PARALLEL_SIN: f64 = 0.035;
 /// Below this |sin| an end-to-end pair counts as coaxial (≈ 1.1°).
 pub const COAXIAL_SIN: f64 = 0.02;
+/// Face blend width of the coaxial face model (half of [`COAXIAL_SIN`], so
+/// at the regime boundary the model is the exact rim-on-face-plane depth).
+pub const COAXIAL_BLEND_SIN: f64 = 0.01;
+/// Relative tolerance on parry's depth against the projection overlap along
+/// its own normal (diagnostic only: the depth used is always recomputed).
+/// parry's EPA depth is off by up to ~5e-9 m (≈10 % of a 6e-8 m depth),
+/// its known failures (exactly coaxial pairs) by O(1).
+pub const PARRY_REL_TOL: f64 = 1e-2;
 /// Number of parry answers rejected by the sanity checks (diagnostics).
 pub static PARRY_REJECTS: AtomicU64 = AtomicU64::new(0);
 /// Number of parry calls (diagnostics).
@@ -70,12 +88,6 @@ struct Cand {
     normal: DVec3,
 }
 
-const NONE: Cand = Cand {
-    depth: f64::NEG_INFINITY,
-    point: DVec3::ZERO,
-    normal: DVec3::ZERO,
-};
-
 /// Any unit vector perpendicular to `u`.
 #[inline]
 fn any_perp(u: DVec3) -> DVec3 {
@@ -83,10 +95,12 @@ fn any_perp(u: DVec3) -> DVec3 {
 }
 
 /// End disc of one fibre (centre `e`, axis `ue`, radius `re`) against the
-/// side of `other`. Takes the rim point facing `other`'s axis (exact for a
-/// parallel pair, first-order otherwise) and measures its depth into the
-/// other cylinder's lateral surface. Returns the normal pointing from
-/// `other` towards the end's fibre.
+/// side of `other`: depth of the rim point deepest in `other`, i.e.
+/// `max_φ (r_o − dist(rim(φ), axis_o))`. Start from the rim point facing
+/// `other`'s axis (exact for a parallel pair) and polish φ with Newton steps
+/// on `dist²`, so the result is the max over body-fixed rim points and its
+/// gradient is the force at that point (envelope theorem). Returns the
+/// normal pointing from `other` towards the end's fibre.
 #[inline]
 fn end_vs_side(e: DVec3, ue: DVec3, re: f64, other: &FibreGeom) -> Cand {
     let (oc, ou, oh) = (other.centre, other.axis, other.half_length);
@@ -98,9 +112,46 @@ fn end_vs_side(e: DVec3, ue: DVec3, re: f64, other: &FibreGeom) -> Cand {
     } else {
         any_perp(ou)
     };
+    let capsule_depth = other.radius + re - dist;
+    if capsule_depth <= 0.0 {
+        // The rim lies within `re` of `e`: no rim point can touch.
+        return Cand {
+            depth: capsule_depth,
+            point: e,
+            normal: n,
+        };
+    }
     let m = n - n.dot(ue) * ue;
     let ml = m.length();
-    let p = if ml > 1e-12 { e - (re / ml) * m } else { e };
+    let p = if ml > 1e-12 {
+        // Rim frame: e1 faces `other`, e2 = ue × e1; minimise
+        // f(φ) = |A + re (cos φ B1 + sin φ B2)|², B = component ⊥ ou.
+        let e1 = -m / ml;
+        let e2 = ue.cross(e1);
+        let perp = |x: DVec3| x - ou.dot(x) * ou;
+        let (a0, b1, b2) = (perp(e - oc), perp(e1), perp(e2));
+        let mut phi = 0.0f64;
+        for _ in 0..3 {
+            let (sn, cs) = phi.sin_cos();
+            let r = a0 + re * (cs * b1 + sn * b2);
+            let dr = re * (cs * b2 - sn * b1);
+            let d2r = -re * (cs * b1 + sn * b2);
+            let g = r.dot(dr);
+            let h = dr.dot(dr) + r.dot(d2r);
+            if h <= 0.0 {
+                break;
+            }
+            let step = g / h;
+            phi -= step;
+            if step.abs() < 1e-14 {
+                break;
+            }
+        }
+        let (sn, cs) = phi.sin_cos();
+        e + re * (cs * e1 + sn * e2)
+    } else {
+        e
+    };
     let tp = ou.dot(p - oc).clamp(-oh, oh);
     let qp = oc + tp * ou;
     let vp = p - qp;
@@ -212,19 +263,106 @@ fn closest_point_contact(a: &FibreGeom, b: &FibreGeom, s: f64, t: f64) -> Cand {
 /// forces jump only on the measure-zero set where, with an interior closest
 /// point, `δ_lo = δ_hi` (scissored and rocked at once) or where the
 /// end defining an overlap end switches from A to B.
-fn side_side(a: &FibreGeom, b: &FibreGeom, s: f64, t: f64, out: &mut Vec<ContactPoint>) {
+///
+/// Axial escape (near-parallel pairs only): when the axial overlap `ℓ` of
+/// the segments is below `2δ_main` (ends sliding past each other), the
+/// exact penetration depth `δ_pd` ([`penetration`], min over directions) is
+/// computed; the main contact becomes it if shallower, and the second one
+/// is capped at `ℓ − δ_pd`, so the pair fades continuously to zero at
+/// `ℓ = δ_pd` instead of dropping two full contacts. Limit: inside that
+/// window (`ℓ < 2δ`, a few µm of sliding) the capped second contact's force
+/// is not the exact gradient of its cap.
+fn side_side(
+    a: &FibreGeom,
+    b: &FibreGeom,
+    s: f64,
+    t: f64,
+    axial_len: f64,
+    out: &mut Vec<ContactPoint>,
+) {
     let cp = closest_point_contact(a, b, s, t);
     let sb = if a.axis.dot(b.axis) >= 0.0 { 1.0 } else { -1.0 };
     let lo = deeper(a_end(a, b, -1.0), b_end(a, b, -sb));
     let hi = deeper(a_end(a, b, 1.0), b_end(a, b, sb));
-    let (big, small) = if hi.depth > lo.depth {
+    let (big, mut small) = if hi.depth > lo.depth {
         (hi, lo)
     } else {
         (lo, hi)
     };
-    let main = if big.depth >= cp.depth { big } else { cp };
+    let mut main = if big.depth >= cp.depth { big } else { cp };
+    let sin = a.axis.cross(b.axis).length();
+    if sin < PARALLEL_SIN
+        && main.depth > 0.0
+        && axial_len < 2.0 * main.depth + (a.radius + b.radius) * sin
+    {
+        let pd = penetration(a, b, [main.normal, cp.normal]);
+        if pd.depth < main.depth - 1e-12 * (a.radius + b.radius) {
+            main = pd;
+        }
+        // At the switch ℓ = 2δ_main this cap is inactive (ℓ − δ_pd ≥ δ_small).
+        small.depth = small.depth.min(axial_len - pd.depth);
+    }
     push(out, main);
     push(out, small);
+}
+
+/// Near-coaxial end-to-end contact: A's facing end face (with the
+/// fibre–wall face blend, width [`COAXIAL_BLEND_SIN`]) against the plane of
+/// B's facing end face; `None` when the pair is not end to end (axial
+/// overlap ≥ min radius) or A's application point is not over B's face
+/// (then the contact is rim on rim and goes to parry).
+fn coaxial(a: &FibreGeom, b: &FibreGeom) -> Option<Cand> {
+    let w = a.centre - b.centre;
+    let axial = w.dot(b.axis);
+    let axial_overlap = a.half_length + b.half_length - axial.abs();
+    if axial_overlap >= a.radius.min(b.radius) {
+        return None;
+    }
+    let n = axial.signum() * b.axis;
+    let offset = n.dot(b.centre) + b.half_length;
+    let c = a.centre - a.axis.dot(w).signum() * a.half_length * a.axis;
+    let (depth, p) = end_face_vs_plane(c, a.axis, a.radius, n, offset, COAXIAL_BLEND_SIN);
+    let lateral = p - b.centre;
+    if (lateral - lateral.dot(b.axis) * b.axis).length() > b.radius {
+        return None;
+    }
+    Some(Cand {
+        depth,
+        point: p + 0.5 * depth * n,
+        normal: n,
+    })
+}
+
+/// Support point of a cylinder in direction `n` and its support value
+/// `h(n) = n·c + h|n·a| + r|n⊥|` (exact; the point is its gradient, the
+/// end-face centre when `n` is along the axis).
+///
+/// The face cone point is deliberately *not* blended here: a blended
+/// support (`g(s) < s`) is not a convex body's, and min over `n` then
+/// misses shallow end-to-end contacts with a lateral offset.
+#[inline]
+fn support(f: &FibreGeom, n: DVec3) -> (DVec3, f64) {
+    let na = n.dot(f.axis);
+    let perp = n - na * f.axis;
+    let pl = perp.length();
+    let mut p = f.centre + na.signum() * f.half_length * f.axis;
+    if pl > 1e-12 {
+        p += (f.radius / pl) * perp;
+    }
+    (
+        p,
+        n.dot(f.centre) + f.half_length * na.abs() + f.radius * pl,
+    )
+}
+
+/// Overlap of the projections of A and B on the unit direction `n`
+/// (pointing from B towards A): `h_B(n) + h_A(−n)`. The penetration depth
+/// is the minimum of this over all directions (separating-axis theorem), so
+/// a correct MTD `(depth, n)` satisfies `depth = projection_overlap(n)` and
+/// `depth ≤ projection_overlap(m)` for every other `m`.
+#[inline]
+pub fn projection_overlap(a: &FibreGeom, b: &FibreGeom, n: DVec3) -> f64 {
+    support(b, n).1 + support(a, -n).1
 }
 
 /// Cylinder pose for parry: its cylinders are along local +Y.
@@ -233,31 +371,42 @@ fn parry_pose(f: &FibreGeom) -> Pose {
     Pose::from_parts(f.centre, DQuat::from_rotation_arc(DVec3::Y, f.axis))
 }
 
-/// parry's cylinder–cylinder contact, checked. `bound` = capsule depth.
-fn parry_contact(a: &FibreGeom, b: &FibreGeom, bound: f64) -> Option<Option<Cand>> {
+/// parry's cylinder–cylinder contact, checked:
+/// finite unit normal; `depth ≤` capsule `bound`; `depth` within
+/// [`PARRY_REL_TOL`] of the projection overlap along its own normal (an
+/// exact upper bound of the true depth); not deeper than the
+/// separating-axis estimate. `Err(normal)` = rejected (with parry's normal
+/// if finite, as one more axis for the fallback). parry's "no contact" is
+/// trusted (its known failures are wrong contacts, not missed ones).
+fn parry_contact(a: &FibreGeom, b: &FibreGeom, bound: f64) -> Result<Option<Cand>, DVec3> {
     PARRY_CALLS.fetch_add(1, Ordering::Relaxed);
     let ca = Cylinder::new(a.half_length, a.radius);
     let cb = Cylinder::new(b.half_length, b.radius);
-    let res = query::contact(&parry_pose(a), &ca, &parry_pose(b), &cb, 0.0).ok()?;
+    let Ok(res) = query::contact(&parry_pose(a), &ca, &parry_pose(b), &cb, 0.0) else {
+        return Err(DVec3::ZERO);
+    };
     let Some(c) = res else {
-        return Some(None);
+        return Ok(None);
     };
     let depth = -c.dist;
     let n = -c.normal1;
-    let tol = 1e-9 * (a.radius + b.radius);
+    if !(n.is_finite() && (n.length() - 1.0).abs() < 1e-9) {
+        return Err(DVec3::ZERO);
+    }
+    let tol = PARRY_REL_TOL * depth.abs() + 1e-8 * (a.radius + b.radius);
+    let proj = projection_overlap(a, b, n);
     let ok = depth.is_finite()
-        && n.is_finite()
-        && (n.length() - 1.0).abs() < 1e-6
         && depth <= bound + tol
+        && (proj - depth).abs() <= tol
         && c.point1.is_finite()
         && c.point2.is_finite();
     if !ok {
-        return None;
+        return Err(n);
     }
     if depth <= 0.0 {
-        return Some(None);
+        return Ok(None);
     }
-    Some(Some(Cand {
+    Ok(Some(Cand {
         depth,
         point: 0.5 * (c.point1 + c.point2),
         normal: n,
@@ -277,49 +426,213 @@ pub fn contact_fibre_fibre(a: &FibreGeom, b: &FibreGeom, out: &mut Vec<ContactPo
 
     // 1. Near-coaxial end to end.
     if sin < COAXIAL_SIN {
-        let axial = w.dot(b.axis);
-        let rho = (w - axial * b.axis).length();
-        let axial_overlap = a.half_length + b.half_length - axial.abs();
-        if rho < b.radius && axial_overlap < a.radius.min(b.radius) {
-            let sgn_b = axial.signum();
-            let n = sgn_b * b.axis;
-            let offset = n.dot(b.centre) + b.half_length;
-            let sgn_a = -a.axis.dot(w).signum();
-            let c = a.centre + sgn_a * a.half_length * a.axis;
-            let (depth, p) = end_face_vs_plane(c, a.axis, a.radius, n, offset);
-            push(
-                out,
-                Cand {
-                    depth,
-                    point: p + 0.5 * depth * n,
-                    normal: n,
-                },
-            );
+        if let Some(c) = coaxial(a, b) {
+            push(out, c);
             return;
         }
     }
 
     // 2. Side–side.
     let interior = s.abs() < a.half_length && t.abs() < b.half_length;
-    let near_parallel = sin < PARALLEL_SIN && {
+    // Axial overlap of the segments, measured along A.
+    let axial_len = {
         let bb = a.axis.dot(b.axis).abs();
         let mid = -a.axis.dot(w);
         let lo = (mid - b.half_length * bb).max(-a.half_length);
         let hi = (mid + b.half_length * bb).min(a.half_length);
-        hi > lo
+        hi - lo
     };
-    if interior || near_parallel {
-        side_side(a, b, s, t, out);
+    if interior || (sin < PARALLEL_SIN && axial_len > 0.0) {
+        side_side(a, b, s, t, axial_len, out);
         return;
     }
 
-    // 3. End involved: parry, checked.
-    match parry_contact(a, b, bound) {
-        Some(Some(c)) => push(out, c),
-        Some(None) => {}
-        None => {
-            PARRY_REJECTS.fetch_add(1, Ordering::Relaxed);
-            push(out, closest_point_contact(a, b, s, t));
+    // 3. End involved: parry's normal (checked) seeds an exact minimisation
+    //    of the projection overlap over the cylinders' feature manifolds.
+    let cp = closest_point_contact(a, b, s, t);
+    let (parry_n, parry_ok) = match parry_contact(a, b, bound) {
+        Ok(None) => return,
+        Ok(Some(c)) => (c.normal, true),
+        Err(n) => (n, false),
+    };
+    if !parry_ok {
+        PARRY_REJECTS.fetch_add(1, Ordering::Relaxed);
+    }
+    push(out, penetration(a, b, [cp.normal, parry_n]));
+}
+
+/// Projection overlap along `n` (see [`projection_overlap`]).
+#[inline]
+fn pov(a: &FibreGeom, b: &FibreGeom, n: DVec3) -> f64 {
+    projection_overlap(a, b, n)
+}
+
+/// Penetration depth of two cylinders = `min_n projection_overlap(n)`
+/// (convexity). The overlap function is smooth except on each cylinder's
+/// "side" great circle (`n ⊥ axis`, support jumps between end rims) and at
+/// its face normals (cone points). The minimum is therefore searched on each
+/// feature manifold: the face normals and common normal (points), the two
+/// side circles (1-D Newton), and the generic sphere (2-D Newton, rim on
+/// rim), all seeded by parry's normal / the closest-point normal. Every
+/// value is an exact upper bound of the depth, the least one is returned.
+/// At a smooth or circle minimum the force at the support point of the
+/// body whose support is unique is the exact gradient of the depth
+/// (envelope theorem).
+fn penetration(a: &FibreGeom, b: &FibreGeom, seeds: [DVec3; 2]) -> Cand {
+    let w = a.centre - b.centre;
+    let mut best_n = DVec3::ZERO;
+    let mut best = f64::INFINITY;
+    let consider = |n: DVec3, best_n: &mut DVec3, best: &mut f64| {
+        let l = n.length();
+        if !(l > 1e-12 && l.is_finite()) {
+            return;
+        }
+        for m in [n / l, -n / l] {
+            let v = pov(a, b, m);
+            if v < *best {
+                *best = v;
+                *best_n = m;
+            }
+        }
+    };
+    for d in [a.axis, b.axis, a.axis.cross(b.axis), w, seeds[0], seeds[1]] {
+        consider(d, &mut best_n, &mut best);
+    }
+    let start = if pov(a, b, seeds[1]) <= best + 1e-9 * (a.radius + b.radius) {
+        seeds[1]
+    } else {
+        best_n
+    };
+    // Side circles of B and of A (only when the seed is near one: parry's
+    // normal is accurate to far better than this), then the generic sphere.
+    for u in [b.axis, a.axis] {
+        if start.dot(u).abs() < 0.1 {
+            let m = circle_min(a, b, u, start);
+            consider(m, &mut best_n, &mut best);
         }
     }
+    // Generic (rim on rim).
+    let m = sphere_min(a, b, start);
+    consider(m, &mut best_n, &mut best);
+    let n = best_n;
+    let (sb, _) = support(b, n);
+    let (sa, _) = support(a, -n);
+    // Use the support point that is unique (not on a side line / face).
+    // Supports are unique except on a side circle (n ⊥ axis: a generator)
+    // or at a face normal (the whole face).
+    let unique = |f: &FibreGeom, d: DVec3| {
+        let na = d.dot(f.axis).abs();
+        na > 1e-9 && na < 1.0 - 1e-12
+    };
+    let point = if unique(a, -n) {
+        sa + 0.5 * best * n
+    } else if unique(b, n) {
+        sb - 0.5 * best * n
+    } else {
+        0.5 * (sa + sb)
+    };
+    Cand {
+        depth: best,
+        point,
+        normal: n,
+    }
+}
+
+/// 1-D Newton (numerical derivatives, backtracking) on the great circle
+/// `n ⊥ u`, starting from the projection of `seed`.
+fn circle_min(a: &FibreGeom, b: &FibreGeom, u: DVec3, seed: DVec3) -> DVec3 {
+    let mut e1 = seed - seed.dot(u) * u;
+    if e1.length_squared() < 1e-24 {
+        e1 = u.any_orthonormal_vector();
+    }
+    let e1 = e1.normalize();
+    let e2 = u.cross(e1);
+    let at = |th: f64| {
+        let (sn, cs) = th.sin_cos();
+        cs * e1 + sn * e2
+    };
+    let f = |th: f64| pov(a, b, at(th));
+    let mut th = 0.0;
+    let mut v = f(th);
+    let eps = 1e-5;
+    for _ in 0..30 {
+        let (fp, fm) = (f(th + eps), f(th - eps));
+        let d1 = (fp - fm) / (2.0 * eps);
+        let d2 = (fp - 2.0 * v + fm) / (eps * eps);
+        let mut step = if d2 > 0.0 {
+            -d1 / d2
+        } else {
+            -0.05 * d1.signum()
+        };
+        step = step.clamp(-0.5, 0.5);
+        if step.abs() < 1e-11 {
+            break;
+        }
+        let mut moved = false;
+        for _ in 0..12 {
+            let nv = f(th + step);
+            if nv < v {
+                th += step;
+                v = nv;
+                moved = true;
+                break;
+            }
+            step *= 0.5;
+        }
+        if !moved || step.abs() < 1e-13 {
+            break;
+        }
+    }
+    at(th)
+}
+
+/// 2-D damped Newton on the sphere (analytic gradient `s_B(n) − s_A(−n)`,
+/// Hessian by central differences of it), accepting only decreases.
+fn sphere_min(a: &FibreGeom, b: &FibreGeom, seed: DVec3) -> DVec3 {
+    let mut n = seed;
+    let mut best = pov(a, b, n);
+    for _ in 0..30 {
+        let e1 = n.any_orthonormal_vector();
+        let e2 = n.cross(e1);
+        let grad = |m: DVec3| {
+            let g = support(b, m).0 - support(a, -m).0;
+            (g.dot(e1), g.dot(e2))
+        };
+        let (g1, g2) = grad(n);
+        let eps = 1e-6;
+        let (p1, q1) = grad((n + eps * e1).normalize());
+        let (m1, r1) = grad((n - eps * e1).normalize());
+        let (p2, q2) = grad((n + eps * e2).normalize());
+        let (m2, r2) = grad((n - eps * e2).normalize());
+        let h11 = (p1 - m1) / (2.0 * eps);
+        let h22 = (q2 - r2) / (2.0 * eps);
+        let h12 = 0.25 * ((q1 - r1) + (p2 - m2)) / eps;
+        let det = h11 * h22 - h12 * h12;
+        let (mut d1, mut d2) = if h11 > 0.0 && det > 0.0 {
+            (-(h22 * g1 - h12 * g2) / det, -(h11 * g2 - h12 * g1) / det)
+        } else {
+            let gl = (g1 * g1 + g2 * g2).sqrt().max(1e-300);
+            (-0.05 * g1 / gl, -0.05 * g2 / gl)
+        };
+        if d1.abs() + d2.abs() < 1e-11 {
+            break;
+        }
+        let mut moved = false;
+        for _ in 0..12 {
+            let m = (n + d1 * e1 + d2 * e2).normalize();
+            let v = pov(a, b, m);
+            if v < best {
+                best = v;
+                n = m;
+                moved = true;
+                break;
+            }
+            d1 *= 0.5;
+            d2 *= 0.5;
+        }
+        if !moved || d1.abs() + d2.abs() < 1e-13 {
+            break;
+        }
+    }
+    n
 }

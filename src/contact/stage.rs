@@ -6,8 +6,8 @@
 //! on body B). Deterministic: fixed loop order, sorted pairs.
 
 use super::{
-    candidate_pairs, contact_fibre_fibre, contact_fibre_wall, fibre_aabb, ContactPoint, FibreGeom,
-    HertzLaw, Wall,
+    candidate_pairs_with, contact_fibre_fibre, contact_fibre_wall, fibre_aabb, ContactPoint,
+    FibreGeom, HertzLaw, Wall,
 };
 use crate::body::{Body, BodyState, Shape};
 use crate::scenario::Walls;
@@ -33,6 +33,8 @@ pub struct ContactStage {
     geoms: Vec<FibreGeom>,
     aabbs: Vec<(DVec3, DVec3)>,
     pairs: Vec<(u32, u32)>,
+    /// Scratch for the sort-and-sweep broad phase (no per-step allocation).
+    sweep_order: Vec<u32>,
     points: Vec<ContactPoint>,
     pub stats: ContactStats,
 }
@@ -86,6 +88,7 @@ impl ContactStage {
             geoms: Vec::with_capacity(bodies.len()),
             aabbs: Vec::with_capacity(bodies.len()),
             pairs: vec![],
+            sweep_order: vec![],
             points: vec![],
             stats: ContactStats::default(),
         }
@@ -136,7 +139,7 @@ impl ContactStage {
         }
 
         if self.geoms.len() > 1 {
-            candidate_pairs(&self.aabbs, &mut self.pairs);
+            candidate_pairs_with(&self.aabbs, &mut self.sweep_order, &mut self.pairs);
             for &(a, b) in &self.pairs {
                 let (a, b) = (a as usize, b as usize);
                 let (ga, gb) = (&self.geoms[a], &self.geoms[b]);

@@ -19,7 +19,7 @@ fn csv_err(path: &Path, e: csv::Error) -> Error {
     Error::io(path, std::io::Error::other(e.to_string()))
 }
 
-pub const ENERGY_COLUMNS: [&str; 10] = [
+pub const ENERGY_COLUMNS: [&str; 11] = [
     "step",
     "t",
     "e_grav",
@@ -30,6 +30,7 @@ pub const ENERGY_COLUMNS: [&str; 10] = [
     "energy_error_pct",
     "energy_error_full_pct",
     "energy_error_window_max_pct",
+    "energy_error_full_window_max_pct",
 ];
 
 /// Energy ledger per output row, with Eq. 65 errors. `e_total` is Eq. 64
@@ -48,8 +49,9 @@ pub struct EnergyCsv {
 pub struct EnergyStats {
     pub e0: f64,
     pub e0_full: f64,
-    /// Largest Eq. 65 error and δ/D since the previous row.
+    /// Largest Eq. 65 error, full-budget error and δ/D since the previous row.
     pub window_max: f64,
+    pub window_max_full: f64,
     pub window_overlap: f64,
     /// Largest δ/D over the whole run (contact scenes).
     pub max_overlap_ratio: f64,
@@ -66,6 +68,7 @@ impl EnergyStats {
             e0: initial.total(),
             e0_full: initial.total_full(),
             window_max: 0.0,
+            window_max_full: 0.0,
             window_overlap: 0.0,
             max_overlap_ratio: 0.0,
             max_error: 0.0,
@@ -75,11 +78,12 @@ impl EnergyStats {
         }
     }
 
-    pub fn to_array(&self) -> [f64; 9] {
+    pub fn to_array(&self) -> [f64; 10] {
         [
             self.e0,
             self.e0_full,
             self.window_max,
+            self.window_max_full,
             self.window_overlap,
             self.max_overlap_ratio,
             self.max_error,
@@ -89,17 +93,18 @@ impl EnergyStats {
         ]
     }
 
-    pub fn from_array(a: [f64; 9]) -> Self {
+    pub fn from_array(a: [f64; 10]) -> Self {
         EnergyStats {
             e0: a[0],
             e0_full: a[1],
             window_max: a[2],
-            window_overlap: a[3],
-            max_overlap_ratio: a[4],
-            max_error: a[5],
-            max_error_full: a[6],
-            last_error: a[7],
-            last_error_full: a[8],
+            window_max_full: a[3],
+            window_overlap: a[4],
+            max_overlap_ratio: a[5],
+            max_error: a[6],
+            max_error_full: a[7],
+            last_error: a[8],
+            last_error_full: a[9],
         }
     }
 }
@@ -172,6 +177,7 @@ impl EnergyCsv {
         let err_full = error_pct(l.total_full(), s.e0_full);
         // f64::max ignores NaN, so the maxima stay NaN-free for E_0 = 0 scenes.
         s.window_max = s.window_max.max(err);
+        s.window_max_full = s.window_max_full.max(err_full);
         s.max_error = s.max_error.max(err);
         s.max_error_full = s.max_error_full.max(err_full);
         s.last_error = err;
@@ -192,6 +198,11 @@ impl EnergyCsv {
         } else {
             s.window_max
         };
+        let window_full = if s.last_error_full.is_nan() {
+            f64::NAN
+        } else {
+            s.window_max_full
+        };
         let touching = contacts.unwrap_or_default().touching as u64;
         let with_contacts = self.with_contacts;
         Row::new(&mut self.w)
@@ -205,6 +216,7 @@ impl EnergyCsv {
             .and_then(|r| r.f(s.last_error))
             .and_then(|r| r.f(s.last_error_full))
             .and_then(|r| r.f(window))
+            .and_then(|r| r.f(window_full))
             .and_then(|r| {
                 if with_contacts {
                     r.u(touching)?.f(s.window_overlap)?;
@@ -213,6 +225,7 @@ impl EnergyCsv {
             })
             .map_err(|e| csv_err(&self.path, e))?;
         self.stats.window_max = 0.0;
+        self.stats.window_max_full = 0.0;
         self.stats.window_overlap = 0.0;
         Ok(())
     }
