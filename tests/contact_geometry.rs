@@ -888,3 +888,54 @@ fn potential_is_continuous_across_regime_boundaries() {
     assert!(lateral < 1e-6, "lateral {lateral}");
     assert!(slide_off < 0.05, "slide off {slide_off}");
 }
+
+/// Regression (test case 2, t = 0.2747 s, pcdm): fibre 3 landed end-first on
+/// fibre 0 at 16°. The exact-depth search converged 4e-12 off A's face normal,
+/// the contact point went to an arbitrary rim point of A's face, and the torque
+/// was zero instead of the gradient (energy error grew to 4 % in one contact).
+/// Reference: central finite differences of the returned potential.
+#[test]
+fn end_on_end_at_16_degrees_torque_is_the_gradient() {
+    let a = FibreGeom {
+        centre: DVec3::new(0.5247010902075603, 0.22529999999210082, 0.10480072385725829),
+        axis: DVec3::new(-0.020699441332513724, 0.0, 0.9997857436076267).normalize(),
+        radius: 0.005,
+        half_length: 0.0125,
+    };
+    let b = FibreGeom {
+        centre: DVec3::new(0.5246989097810518, 0.22529999999210082, 0.13000231401080814),
+        axis: DVec3::new(0.25927505999669553, 0.0, 0.965803522080814).normalize(),
+        radius: 0.005,
+        half_length: 0.0125,
+    };
+    let law = HertzLaw::fibre_fibre(0.01, 5e7, 0.35, 0.01, 5e7, 0.35);
+    let eval = |a: &FibreGeom, b: &FibreGeom| {
+        let mut pts = vec![];
+        contact_fibre_fibre(a, b, &mut pts);
+        let mut u = 0.0;
+        let mut torque = DVec3::ZERO;
+        for p in &pts {
+            u += p.weight * law.energy(p.overlap);
+            torque += (p.point - a.centre).cross(p.weight * law.force(p.overlap) * p.normal);
+        }
+        (u, torque)
+    };
+    for (x, y) in [(a, b), (b, a)] {
+        let (u, torque) = eval(&x, &y);
+        assert!(u > 0.0);
+        let eps = 1e-7;
+        for k in 0..3 {
+            let turn = |s: f64| {
+                let mut x2 = x;
+                x2.axis = DQuat::from_axis_angle(DVec3::AXES[k], s) * x.axis;
+                x2
+            };
+            let grad = -(eval(&turn(eps), &y).0 - eval(&turn(-eps), &y).0) / (2.0 * eps);
+            assert!(
+                (grad - torque[k]).abs() <= 1e-4 * torque.length().max(1e-6),
+                "axis {k}: -dU/dθ = {grad:e}, torque = {:e}",
+                torque[k]
+            );
+        }
+    }
+}

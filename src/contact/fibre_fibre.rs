@@ -517,19 +517,24 @@ fn penetration(a: &FibreGeom, b: &FibreGeom, seeds: [DVec3; 2]) -> Cand {
     let n = best_n;
     let (sb, _) = support(b, n);
     let (sa, _) = support(a, -n);
-    // Use the support point that is unique (not on a side line / face).
-    // Supports are unique except on a side circle (n ⊥ axis: a generator)
-    // or at a face normal (the whole face).
-    let unique = |f: &FibreGeom, d: DVec3| {
+    // Use the support point of the body whose support is the more clearly
+    // unique. A support is degenerate at a face normal (|n·axis| = 1: the
+    // whole face) and on a side circle (n·axis = 0: a generator line). The
+    // Newton searches land *near* such points, not on them, so a fixed
+    // tolerance is not enough: a minimiser 4e-12 off a face normal made the
+    // face's "unique" rim point arbitrary and the torque wrong (seen in test
+    // case 2, end on end at 16°; `tests/contact_geometry.rs` keeps that pose).
+    let clarity = |f: &FibreGeom, d: DVec3| {
         let na = d.dot(f.axis).abs();
-        na > 1e-9 && na < 1.0 - 1e-12
+        na.min(1.0 - na)
     };
-    let point = if unique(a, -n) {
-        sa + 0.5 * best * n
-    } else if unique(b, n) {
-        sb - 0.5 * best * n
-    } else {
+    let (ca, cb) = (clarity(a, -n), clarity(b, n));
+    let point = if ca.max(cb) < 1e-9 {
         0.5 * (sa + sb)
+    } else if ca >= cb {
+        sa + 0.5 * best * n
+    } else {
+        sb - 0.5 * best * n
     };
     Cand {
         depth: best,

@@ -36,6 +36,20 @@ pub struct World<'s> {
     pub ledger: Ledger,
     /// Full-budget energy at step 0.
     pub e0_full: f64,
+    /// Stage timers (rapier-style), off unless a benchmark turns them on: two
+    /// clock reads per stage per step are not free.
+    pub timers: Option<StageTimes>,
+}
+
+/// Wall time spent in each stage of the step, summed over steps.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StageTimes {
+    /// Verlet and rotators (stages 1, 2, 4).
+    pub integrate: std::time::Duration,
+    /// Broad phase, kernels, Hertz (stage 3).
+    pub forces: std::time::Duration,
+    /// Energy ledger and guards (stage 5).
+    pub guards: std::time::Duration,
 }
 
 impl<'s> World<'s> {
@@ -53,6 +67,7 @@ impl<'s> World<'s> {
                 .then(|| ContactStage::new(&scene.bodies, scene.walls.as_ref())),
             ledger: Ledger::default(),
             e0_full: 0.0,
+            timers: None,
         };
         w.compute_forces();
         w.ledger = w.measure();
@@ -114,6 +129,7 @@ impl<'s> World<'s> {
         let t_n = self.step as f64 * dt;
         let t_next = (self.step + 1) as f64 * dt;
         let scene = self.scene;
+        let clock = self.timers.map(|_| std::time::Instant::now());
 
         for i in 0..self.states.len() {
             let a = self.acceleration(i);
@@ -126,7 +142,9 @@ impl<'s> World<'s> {
                 .map_err(|f| self.fault_diagnosis(f, i))?;
         }
 
+        let clock_forces = clock.map(|_| std::time::Instant::now());
         self.compute_forces();
+        let clock_after = clock.map(|_| std::time::Instant::now());
 
         for i in 0..self.states.len() {
             let a = self.acceleration(i);
@@ -140,8 +158,15 @@ impl<'s> World<'s> {
             }
         }
         self.step += 1;
+        let clock_guards = clock.map(|_| std::time::Instant::now());
         self.ledger = self.measure();
-        self.check_state()
+        let verdict = self.check_state();
+        if let (Some(t), Some(c0), Some(c1), Some(c2), Some(c3)) = (&mut self.timers, clock, clock_forces, clock_after, clock_guards) {
+            t.integrate += (c1 - c0) + (c3 - c2);
+            t.forces += c2 - c1;
+            t.guards += c3.elapsed();
+        }
+        verdict
     }
 
     fn fault_diagnosis(&self, fault: RotatorFault, body: usize) -> Diagnosis {
