@@ -87,6 +87,8 @@ pub struct Body {
     pub young: f64,
     pub poisson: f64,
     pub mass: f64,
+    /// `1/m`, kept so the step multiplies instead of dividing.
+    pub inv_mass: f64,
     pub inertia: Inertia,
 }
 
@@ -100,6 +102,7 @@ impl Body {
             young,
             poisson,
             mass,
+            inv_mass: 1.0 / mass,
             inertia: Inertia::new(mass * shape.inertia_per_mass()),
         }
     }

@@ -55,8 +55,11 @@ pub fn exp_map(r: DVec3) -> DQuat {
     // x = |r|/2; k = sin(x)/|r| multiplies r; c = cos(x).
     let x2 = 0.25 * angle2;
     let (k, c) = if x2 < 1e-4 {
-        let s_over_x = 1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0));
-        let c = 1.0 - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0 * (1.0 - x2 / 56.0)));
+        // Reciprocals as constants: divisions would dominate the step.
+        const S: [f64; 3] = [1.0 / 6.0, 1.0 / 20.0, 1.0 / 42.0];
+        const C: [f64; 4] = [0.5, 1.0 / 12.0, 1.0 / 30.0, 1.0 / 56.0];
+        let s_over_x = 1.0 - x2 * S[0] * (1.0 - x2 * S[1] * (1.0 - x2 * S[2]));
+        let c = 1.0 - x2 * C[0] * (1.0 - x2 * C[1] * (1.0 - x2 * C[2] * (1.0 - x2 * C[3])));
         (0.5 * s_over_x, c)
     } else {
         let angle = angle2.sqrt();

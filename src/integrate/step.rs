@@ -101,7 +101,7 @@ impl<'s> World<'s> {
     #[inline]
     fn acceleration(&self, i: usize) -> DVec3 {
         let g = self.scene.gravity.unwrap_or(DVec3::ZERO);
-        self.force[i] / self.scene.bodies[i].mass + g
+        self.force[i] * self.scene.bodies[i].inv_mass + g
     }
 
     /// Stage 3: forces and torques at the current configuration. Without
