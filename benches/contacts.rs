@@ -34,7 +34,11 @@ fn main() {
         }
         let t = w.timers.unwrap();
         let total = (t.integrate + t.forces + t.guards).as_secs_f64();
-        results.push((wall, t.forces.as_secs_f64() / total, t.integrate.as_secs_f64() / total));
+        results.push((
+            wall,
+            t.forces.as_secs_f64() / total,
+            t.integrate.as_secs_f64() / total,
+        ));
     }
     results.sort_by(|a, b| a.0.total_cmp(&b.0));
     let (wall, forces, integrate) = results[results.len() / 2];

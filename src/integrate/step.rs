@@ -161,7 +161,13 @@ impl<'s> World<'s> {
         let clock_guards = clock.map(|_| std::time::Instant::now());
         self.ledger = self.measure();
         let verdict = self.check_state();
-        if let (Some(t), Some(c0), Some(c1), Some(c2), Some(c3)) = (&mut self.timers, clock, clock_forces, clock_after, clock_guards) {
+        if let (Some(t), Some(c0), Some(c1), Some(c2), Some(c3)) = (
+            &mut self.timers,
+            clock,
+            clock_forces,
+            clock_after,
+            clock_guards,
+        ) {
             t.integrate += (c1 - c0) + (c3 - c2);
             t.forces += c2 - c1;
             t.guards += c3.elapsed();

@@ -1,0 +1,140 @@
+//! Contact energy audit: replay a run from a checkpoint and check every live
+//! contact's force and torque against central finite differences of its
+//! potential. This is how the end-on-end torque bug and the side–side/end
+//! regime switch (README, "Contacts") were found.
+//!
+//! ```sh
+//! fibresim run scenarios/nine_fibres.toml --t-end 1.2036 --checkpoint-every 12036000 --out /tmp/a
+//! cargo run --release --example contact_energy_audit -- /tmp/a/checkpoint.json 1.2040 200
+//! ```
+//! Arguments: checkpoint, end time, print every N steps.
+
+use fibresim::body::Shape;
+use fibresim::contact::stage::box_walls;
+use fibresim::contact::*;
+use fibresim::integrate::step::World;
+use fibresim::output::checkpoint::state_from_bits;
+use fibresim::output::Checkpoint;
+use fibresim::with_rotator;
+use glam::{DQuat, DVec3};
+
+type Kernel<'a> = &'a dyn Fn(&FibreGeom, &mut Vec<ContactPoint>);
+
+/// Potential, force and torque on `a` from one kernel.
+fn evaluate(a: &FibreGeom, law: &HertzLaw, kernel: Kernel) -> (f64, DVec3, DVec3, usize) {
+    let mut pts = vec![];
+    kernel(a, &mut pts);
+    let (mut u, mut f, mut t) = (0.0, DVec3::ZERO, DVec3::ZERO);
+    for p in &pts {
+        u += p.weight * law.energy(p.overlap);
+        let fi = p.weight * law.force(p.overlap) * p.normal;
+        f += fi;
+        t += (p.point - a.centre).cross(fi);
+    }
+    (u, f, t, pts.len())
+}
+
+/// Largest relative mismatch between the returned force/torque and −∇U.
+fn audit(a: &FibreGeom, law: &HertzLaw, kernel: Kernel) -> Option<(f64, f64, usize)> {
+    let (u, f, t, n) = evaluate(a, law, kernel);
+    if n == 0 {
+        return None;
+    }
+    let eps = 1e-8;
+    let scale = f.length().max(1e-12);
+    let mut worst: f64 = 0.0;
+    for k in 0..3 {
+        let shift = |s: f64| FibreGeom {
+            centre: a.centre + s * DVec3::AXES[k],
+            ..*a
+        };
+        let turn = |s: f64| FibreGeom {
+            axis: DQuat::from_axis_angle(DVec3::AXES[k], s) * a.axis,
+            ..*a
+        };
+        let gf = -(evaluate(&shift(eps), law, kernel).0 - evaluate(&shift(-eps), law, kernel).0)
+            / (2.0 * eps);
+        let gt = -(evaluate(&turn(eps), law, kernel).0 - evaluate(&turn(-eps), law, kernel).0)
+            / (2.0 * eps);
+        worst = worst
+            .max((gf - f[k]).abs() / scale)
+            .max((gt - t[k]).abs() / (scale * a.radius));
+    }
+    Some((u, worst, n))
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let c = Checkpoint::read(std::path::Path::new(&args[1])).expect("checkpoint");
+    let until: f64 = args[2].parse().expect("end time");
+    let every: u64 = args.get(3).map_or(200, |s| s.parse().expect("N"));
+    let scene = fibresim::run::scene_from_checkpoint(&c, Some(until)).expect("scene");
+    let mut w = World::new(&scene);
+    w.restore(
+        c.states
+            .iter()
+            .map(|s| state_from_bits(s).expect("state"))
+            .collect(),
+        c.step,
+    );
+    let e0 = w.e0_full;
+    let geom = |w: &World, i: usize| {
+        let Shape::Fibre { diameter, length } = scene.bodies[i].shape else {
+            panic!("fibres only")
+        };
+        FibreGeom {
+            centre: w.states[i].x,
+            axis: w.states[i].rot.q * DVec3::X,
+            radius: 0.5 * diameter,
+            half_length: 0.5 * length,
+        }
+    };
+    let walls = scene.walls.as_ref().map(box_walls).unwrap_or_default();
+    while w.step < scene.sim.steps {
+        with_rotator!(scene.sim.rotator, R => w.step::<R>()).expect("step");
+        if w.step % every != 0 {
+            continue;
+        }
+        println!(
+            "step {} t {:.7} full-budget error {:+.4e} %",
+            w.step,
+            w.time(),
+            (w.ledger.total_full() - e0) / e0 * 100.0
+        );
+        let n = scene.bodies.len();
+        for i in 0..n {
+            let (bi, gi) = (&scene.bodies[i], geom(&w, i));
+            let d = |s: &Shape| match *s {
+                Shape::Fibre { diameter, .. } | Shape::Sphere { diameter } => diameter,
+            };
+            for j in i + 1..n {
+                let (bj, gj) = (&scene.bodies[j], geom(&w, j));
+                let law = HertzLaw::fibre_fibre(
+                    d(&bi.shape),
+                    bi.young,
+                    bi.poisson,
+                    d(&bj.shape),
+                    bj.young,
+                    bj.poisson,
+                );
+                if let Some((u, worst, k)) =
+                    audit(&gi, &law, &|a, out| contact_fibre_fibre(a, &gj, out))
+                {
+                    let sin = gi.axis.cross(gj.axis).length();
+                    println!("  {i}-{j}: {k} points, U {u:.3e} J, |sin| {sin:.4}, worst gradient mismatch {worst:.1e}");
+                }
+            }
+            if let Some(wl) = &scene.walls {
+                let law =
+                    HertzLaw::fibre_wall(d(&bi.shape), bi.young, bi.poisson, wl.young, wl.poisson);
+                for (k, wall) in walls.iter().enumerate() {
+                    if let Some((u, worst, m)) =
+                        audit(&gi, &law, &|a, out| contact_fibre_wall(a, wall, out))
+                    {
+                        println!("  {i}-wall{k}: {m} points, U {u:.3e} J, worst gradient mismatch {worst:.1e}");
+                    }
+                }
+            }
+        }
+    }
+}
