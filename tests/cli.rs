@@ -285,6 +285,42 @@ fn bad_input_is_named_and_exits_2() {
         &["--out", "/proc/nope/out"],
         &["--out", "cannot create"],
     );
+    // Bodies outside the box, and overlapping at the start.
+    let boxed = |bodies: &str| {
+        format!(
+            "[simulation]\ndt = 1e-6\nt_end = 0.001\n[box]\nmin = [0.0, 0.0, 0.0]\nmax = [1.0, 1.0, 1.0]\nyoung = 5e7\npoisson = 0.23\n{bodies}"
+        )
+    };
+    let fibre = |x: f64, axis: &str| {
+        format!("[[body]]\nshape = \"fibre\"\ndiameter = 0.01\nlength = 0.025\ndensity = 1100.0\nyoung = 5e7\npoisson = 0.35\nposition = [{x}, 0.5, 0.5]\naxis = {axis}\n")
+    };
+    expect_bad_input(
+        Some(&boxed(&fibre(0.005, "[1.0, 0.0, 0.0]"))),
+        &[],
+        &["body[0].position", "does not fit inside the box"],
+    );
+    expect_bad_input(
+        Some(&boxed(
+            &(fibre(0.5, "[1.0, 0.0, 0.0]") + &fibre(0.52, "[1.0, 0.0, 0.0]")),
+        )),
+        &[],
+        &[
+            "body[0].position",
+            "overlaps body[1]",
+            "move the bodies apart",
+        ],
+    );
+    // A dt that does not resolve a collision at all is refused (see `fibresim check`).
+    expect_bad_input(
+        Some(
+            &boxed(&fibre(0.5, "[1.0, 0.0, 0.0]"))
+                .replace("dt = 1e-6", "dt = 1e-3")
+                .replace("t_end = 0.001", "t_end = 0.01")
+                .replace("[box]", "[world]\ngravity = [0.0, 0.0, -9.81]\n[box]"),
+        ),
+        &[],
+        &["simulation.dt", "fewer than 5 steps", "--allow-large-dt"],
+    );
     let o = fibresim(&["run", "does/not/exist.toml", "-q"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("does/not/exist.toml") && stderr(&o).contains("cannot read"));
