@@ -74,28 +74,23 @@ pub fn advise(scene: &Scene) -> Advice {
             e += b.mass * (lowest - g.dot(s.x)).max(0.0);
         }
     }
-    let mut pairs = vec![];
+    let no_advice = |warnings| Advice {
+        available_energy: e,
+        pairs: vec![],
+        recommended_dt: None,
+        hard_limit_dt: None,
+        warnings,
+    };
     if !scene.needs_contacts() {
-        return Advice {
-            available_energy: e,
-            pairs,
-            recommended_dt: None,
-            hard_limit_dt: None,
-            warnings,
-        };
+        return no_advice(warnings);
     }
     if scene.has_prescribed_torque() {
         warnings.push(
             "prescribed torques do work: impact speeds cannot be bounded, no contact advice".into(),
         );
-        return Advice {
-            available_energy: e,
-            pairs,
-            recommended_dt: None,
-            hard_limit_dt: None,
-            warnings,
-        };
+        return no_advice(warnings);
     }
+    let mut pairs = vec![];
     if e <= 0.0 {
         warnings.push(
             "the scene starts at rest with no energy to release: nothing will collide".into(),

@@ -78,13 +78,7 @@ fn run_inner(
     resume: Option<&Checkpoint>,
     bar: Option<indicatif::ProgressBar>,
 ) -> Result<RunOutcome> {
-    std::fs::create_dir_all(&opts.out_dir).map_err(|e| {
-        Error::bad(
-            opts.out_dir.display().to_string(),
-            "--out",
-            format!("cannot create the output folder: {e}"),
-        )
-    })?;
+    crate::output::create_out_dir(&opts.out_dir)?;
     if let Some(b) = &bar {
         b.set_length(scene.sim.steps);
     }

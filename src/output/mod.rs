@@ -11,6 +11,17 @@ pub use checkpoint::Checkpoint;
 pub use csv_out::{EnergyCsv, EnergyStats, OrientationCsv};
 pub use summary::{BodyFinal, Summary};
 
+/// Create an output folder; failure is bad input naming `--out`.
+pub fn create_out_dir(dir: &std::path::Path) -> crate::error::Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| {
+        crate::error::Error::bad(
+            dir.display().to_string(),
+            "--out",
+            format!("cannot create the output folder: {e}"),
+        )
+    })
+}
+
 /// Default output cadence: at most 2e4 rows (well under the ~1e5 budget, so the
 /// output costs less than the physics of a 1e6-step single-body run).
 pub fn default_every(steps: u64) -> u64 {

@@ -240,13 +240,7 @@ struct Acc {
 /// Run the convergence study and write its outputs.
 pub fn converge(scene: &Scene, opts: &ConvergeOptions) -> Result<ConvergeReport> {
     let start = Instant::now();
-    std::fs::create_dir_all(&opts.out_dir).map_err(|e| {
-        Error::bad(
-            opts.out_dir.display().to_string(),
-            "--out",
-            format!("cannot create the output folder: {e}"),
-        )
-    })?;
+    crate::output::create_out_dir(&opts.out_dir)?;
     let t_end = opts.t_end.unwrap_or(scene.sim.t_end());
     let dt_max = opts.dt_max.unwrap_or(10.0 * scene.sim.dt);
     let dt_min = opts.dt_min.unwrap_or(0.1 * scene.sim.dt);
