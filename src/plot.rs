@@ -917,7 +917,7 @@ pub struct CellMap {
 const MAP_CELL_W: u32 = 58;
 const MAP_CELL_H: u32 = 24;
 const MAP_ROW_LABEL_W: u32 = 100;
-const MAP_PANEL_TITLE_H: u32 = 30;
+const MAP_PANEL_TITLE_H: u32 = 46;
 const MAP_PANEL_FOOT_H: u32 = 58;
 const MAP_HEADER_H: u32 = 50;
 const MAP_MARGIN: u32 = 20;
@@ -1147,7 +1147,7 @@ fn draw_map<DB: DrawingBackend>(
                 continue;
             }
             let x = px(gx) + (pos * f64::from(MAP_CELL_W)).round() as i32;
-            let line = RGBColor(0, 0, 0).stroke_width(2);
+            let line = RGBColor(40, 40, 40).stroke_width(1);
             root.draw(&PathElement::new(
                 vec![(x, px(gy) - 4), (x, px(gy + gh) + 2)],
                 line,
@@ -1155,8 +1155,8 @@ fn draw_map<DB: DrawingBackend>(
             .map_err(err)?;
             root.draw(&Text::new(
                 label.as_str(),
-                (x + 3, px(gy) - 8),
-                left(11, BLACK),
+                (x + 3, px(gy) - 10),
+                left(12, BLACK),
             ))
             .map_err(err)?;
         }

@@ -75,7 +75,7 @@ impl StressCase {
                     .iter()
                     .map(|s| s.rot.omega_b.length())
                     .fold(0.0, f64::max);
-                if !(w > 0.0) || scene.has_prescribed_torque() {
+                if w.is_nan() || w <= 0.0 || scene.has_prescribed_torque() {
                     return Err(Error::bad(
                         &scene.source,
                         "body",
@@ -296,8 +296,10 @@ fn run_raw(s: &Scene, bar: Option<indicatif::ProgressBar>) -> Raw {
     let l0: DVec3 = invariants(s, &s.initial, 0.0).iter().map(|x| x.1).sum();
     let (mut energy, mut momentum, mut done) = (0.0f64, 0.0f64, 0u64);
     let worse = |acc: &mut f64, x: f64| {
-        if !(x <= *acc) {
-            *acc = if x.is_nan() { f64::INFINITY } else { x };
+        if x.is_nan() {
+            *acc = f64::INFINITY;
+        } else if x > *acc {
+            *acc = x;
         }
     };
     let tick = super::tick(s.sim.steps);
@@ -467,9 +469,9 @@ pub fn stress(cases: Vec<StressCase>, opts: &StressOptions) -> Result<StressRepo
                     } else {
                         raw.momentum
                     });
-                    let v = if !(e <= opts.energy_tol_pct) {
+                    let v = if e.is_nan() || e > opts.energy_tol_pct {
                         Verdict::Energy
-                    } else if !(o <= opts.outcome_tol_pct) {
+                    } else if o.is_nan() || o > opts.outcome_tol_pct {
                         Verdict::Outcome
                     } else {
                         Verdict::Stable
@@ -718,16 +720,32 @@ pub fn stability_map(r: &StressReport, opts: &StressOptions) -> CellMap {
                 }
                 f64::NAN
             };
-            let mut marks = vec![(column(1.0), "rec.".to_string())];
-            if let Some(h) = c.hard_limit_dt {
-                marks.push((column(h / c.recommended_dt), "5 steps/coll.".to_string()));
-            }
+            let marks = c
+                .hard_limit_dt
+                .map(|h| {
+                    let f = h / c.recommended_dt;
+                    (
+                        column(f),
+                        format!("hard limit (5 steps/collision) = x{f:.1}"),
+                    )
+                })
+                .into_iter()
+                .collect();
             MapPanel {
                 title: format!(
                     "{}  (δt_rec = {:.2e} s, {})",
                     c.name, c.recommended_dt, c.basis
                 ),
-                x_ticks: factors.iter().map(|f| crate::output::num(*f)).collect(),
+                x_ticks: factors
+                    .iter()
+                    .map(|&f| {
+                        if f == 1.0 {
+                            "1 (rec)".into()
+                        } else {
+                            format!("{f}")
+                        }
+                    })
+                    .collect(),
                 rows: opts.rotators.iter().map(|k| k.name().to_string()).collect(),
                 cells,
                 marks,
