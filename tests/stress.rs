@@ -116,3 +116,20 @@ fn case_glob() {
     assert!(wildcard("*_landing", "flat_landing"));
     assert!(!wildcard("*_landing", "landing_flat"));
 }
+
+/// The overlap guard never fires in the default sweep (the energy guard is
+/// always first), so check it separately: test case 1's soft fibre at 50 m/s
+/// reaches δ ≈ 0.58 D in exact Hertz theory and must be stopped at 0.2 D.
+#[test]
+fn soft_fibre_at_50_m_per_s_trips_the_overlap_guard() {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/stress/impact_50.toml");
+    let text = std::fs::read_to_string(p)
+        .unwrap()
+        .replace("young = 2e11", "young = 5e7")
+        .replace("density = 7800.0", "density = 1100.0")
+        .replace("dt = 5e-7", "dt = 1e-7");
+    let scene = fibresim::scenario::parse_str(&text, "soft impact_50").unwrap();
+    let d = fibresim::run::integrate(&scene, RotatorKind::Leapfrog, 1e-7).expect_err("must stop");
+    assert_eq!(d.quantity, "overlap / D", "{d}");
+    assert!(d.value > 0.2 && d.value < 0.21, "{d}");
+}
