@@ -133,3 +133,30 @@ fn soft_fibre_at_50_m_per_s_trips_the_overlap_guard() {
     assert_eq!(d.quantity, "overlap / D", "{d}");
     assert!(d.value > 0.2 && d.value < 0.21, "{d}");
 }
+
+/// Each run is deterministic: the tables do not depend on the thread count.
+#[test]
+fn stress_output_does_not_depend_on_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut tables = vec![];
+    for threads in ["1", "2"] {
+        let out = dir.path().join(threads);
+        let o = Command::new(env!("CARGO_BIN_EXE_fibresim"))
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .env("RAYON_NUM_THREADS", threads)
+            .args([
+                "stress",
+                "--cases",
+                "near_parallel",
+                "--rotators",
+                "pcdm,euler",
+            ])
+            .args(["--factors", "0.5,4", "-q", "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        tables.push(std::fs::read(out.join("stress_runs.csv")).unwrap());
+    }
+    assert_eq!(tables[0], tables[1]);
+}

@@ -555,7 +555,7 @@ fn summarise(cases: &[StressCase], runs: &[StressRun], opts: &StressOptions) -> 
                             if r.scene_dt {
                                 format!("{:e}", r.dt)
                             } else {
-                                crate::output::num(r.factor)
+                                format!("{}", r.factor)
                             },
                             r.verdict.detection(r, opts)
                         )
