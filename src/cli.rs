@@ -30,6 +30,36 @@ pub enum Command {
     Converge(ConvergeArgs),
     /// Plot a column of one or more of fibresim's CSV files (one series per file).
     Plot(PlotArgs),
+    /// Stress suite: every stress case x rotator over dt = factor x the recommended dt, far past the limit; table and stability map.
+    Stress(StressArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct StressArgs {
+    /// Comma-separated rotator names, `paper` (pcdm,scalar,euler,leapfrog) or `all`.
+    #[arg(long, default_value = "all")]
+    pub rotators: String,
+    /// Stress cases: a glob (`*`, `?`) on the file stems in --dir.
+    #[arg(long, default_value = "*")]
+    pub cases: String,
+    /// Folder of the stress case files.
+    #[arg(long, default_value = "scenarios/stress")]
+    pub dir: PathBuf,
+    /// Comma-separated multiples of each case's recommended dt.
+    #[arg(long, default_value = "0.25,0.5,1,2,4,8,16,32,64,128")]
+    pub factors: String,
+    /// A finished run is inaccurate above this energy (contact-free: also angular momentum) error, percent.
+    #[arg(long = "energy-tol", default_value_t = 1.0)]
+    pub energy_tol: f64,
+    /// A finished run is inaccurate when its final velocities and angular momenta are off the rk4 reference by more than this percent of the largest rim speed.
+    #[arg(long = "outcome-tol", default_value_t = 5.0)]
+    pub outcome_tol: f64,
+    /// Output folder.
+    #[arg(long, default_value = "out/stress")]
+    pub out: PathBuf,
+    /// No progress bars and no table on stdout.
+    #[arg(long, short)]
+    pub quiet: bool,
 }
 
 #[derive(Debug, Args)]

@@ -3,7 +3,9 @@
 
 use clap::Parser;
 use fibresim::advice::advise;
-use fibresim::cli::{CheckArgs, Cli, Command, CompareArgs, ConvergeArgs, PlotArgs, RunArgs};
+use fibresim::cli::{
+    CheckArgs, Cli, Command, CompareArgs, ConvergeArgs, PlotArgs, RunArgs, StressArgs,
+};
 use fibresim::error::{Error, Result};
 use fibresim::integrate::rotate::RotatorKind;
 use fibresim::output::Checkpoint;
@@ -29,6 +31,7 @@ fn main() {
         Command::Compare(args) => cmd_compare(args),
         Command::Converge(args) => cmd_converge(args),
         Command::Plot(args) => cmd_plot(args),
+        Command::Stress(args) => cmd_stress(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e}");
@@ -285,5 +288,38 @@ fn cmd_plot(args: PlotArgs) -> Result<()> {
         log_y: args.log_y,
     })?;
     println!("{}", out.display());
+    Ok(())
+}
+
+fn cmd_stress(args: StressArgs) -> Result<()> {
+    use fibresim::study::stress::{load_cases, print_report, stress, StressOptions};
+    let factors = args
+        .factors
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .map(|s| {
+            s.parse::<f64>().map_err(|_| {
+                Error::bad(
+                    "command line",
+                    "--factors",
+                    format!("{s:?} is not a number; give e.g. 0.25,1,4,16"),
+                )
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let opts = StressOptions {
+        rotators: fibresim::study::parse_rotators(Some(&args.rotators))?,
+        factors,
+        energy_tol_pct: positive_flag("--energy-tol", args.energy_tol)?,
+        outcome_tol_pct: positive_flag("--outcome-tol", args.outcome_tol)?,
+        out_dir: args.out,
+        progress: !args.quiet,
+    };
+    let report = stress(load_cases(&args.dir, &args.cases)?, &opts)?;
+    if !args.quiet {
+        print_report(&report);
+        println!("-> {}", opts.out_dir.display());
+    }
     Ok(())
 }

@@ -235,27 +235,36 @@ pub fn render(chart: &Chart, path: &Path) -> Result<(), PlotError> {
                 draw_chart(&root, chart).map_err(draw_err)?;
                 root.present().map_err(|e| draw_err(e.to_string()))?;
             }
-            let file = File::create(path).map_err(io_err)?;
-            let enc_err = |e: png::EncodingError| PlotError::Encode {
-                path: path.to_path_buf(),
-                message: e.to_string(),
-            };
-            let mut out = BufWriter::new(file);
-            {
-                let mut encoder = png::Encoder::new(&mut out, WIDTH, HEIGHT);
-                encoder.set_color(png::ColorType::Rgb);
-                encoder.set_depth(png::BitDepth::Eight);
-                // Charts are flat colour: the best deflate level and adaptive
-                // filtering shrink them 2-3x for a few ms.
-                encoder.set_compression(png::Compression::Best);
-                encoder.set_adaptive_filter(png::AdaptiveFilterType::Adaptive);
-                let mut writer = encoder.write_header().map_err(enc_err)?;
-                writer.write_image_data(&buf).map_err(enc_err)?;
-                writer.finish().map_err(enc_err)?;
-            }
-            out.flush().map_err(io_err)
+            write_png(path, &buf, WIDTH, HEIGHT)
         }
     }
+}
+
+/// Encode an RGB buffer of `w × h` pixels as PNG at `path`.
+fn write_png(path: &Path, buf: &[u8], w: u32, h: u32) -> Result<(), PlotError> {
+    let io_err = |source: std::io::Error| PlotError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let enc_err = |e: png::EncodingError| PlotError::Encode {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    };
+    let file = File::create(path).map_err(io_err)?;
+    let mut out = BufWriter::new(file);
+    {
+        let mut encoder = png::Encoder::new(&mut out, w, h);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        // Charts are flat colour: the best deflate level and adaptive
+        // filtering shrink them 2-3x for a few ms.
+        encoder.set_compression(png::Compression::Best);
+        encoder.set_adaptive_filter(png::AdaptiveFilterType::Adaptive);
+        let mut writer = encoder.write_header().map_err(enc_err)?;
+        writer.write_image_data(buf).map_err(enc_err)?;
+        writer.finish().map_err(enc_err)?;
+    }
+    out.flush().map_err(io_err)
 }
 
 fn font_registered() -> bool {
@@ -872,6 +881,285 @@ fn draw_chart<DB: DrawingBackend>(
             .border_style(RGBColor(150, 150, 150))
             .draw()
             .map_err(err)?;
+    }
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------
+// Categorical cell maps (the stress study's stability map)
+
+/// One panel of a [`CellMap`]: a grid of coloured cells, `rows` top to bottom
+/// and `x_ticks` left to right.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MapPanel {
+    pub title: String,
+    pub x_ticks: Vec<String>,
+    pub rows: Vec<String>,
+    /// `cells[row][col]`: class index into [`CellMap::classes`] and a short
+    /// text drawn in the cell; `None` = not run (left blank).
+    pub cells: Vec<Vec<Option<(usize, String)>>>,
+    /// Vertical markers at fractional column positions (0 = left edge of the
+    /// first column), e.g. a limit that falls between two columns.
+    pub marks: Vec<(f64, String)>,
+}
+
+/// Panels of categorical cells sharing one legend (`classes`: label and RGB).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct CellMap {
+    pub title: String,
+    pub x_label: String,
+    pub classes: Vec<(String, [u8; 3])>,
+    pub panels: Vec<MapPanel>,
+    /// Panels per row of the figure (≥ 1).
+    pub columns: usize,
+}
+
+const MAP_CELL_W: u32 = 58;
+const MAP_CELL_H: u32 = 24;
+const MAP_ROW_LABEL_W: u32 = 100;
+const MAP_PANEL_TITLE_H: u32 = 46;
+const MAP_PANEL_FOOT_H: u32 = 58;
+const MAP_HEADER_H: u32 = 50;
+const MAP_MARGIN: u32 = 20;
+
+impl CellMap {
+    fn panel_size(&self) -> (u32, u32) {
+        let cols = self
+            .panels
+            .iter()
+            .map(|p| p.x_ticks.len())
+            .max()
+            .unwrap_or(1) as u32;
+        let rows = self.panels.iter().map(|p| p.rows.len()).max().unwrap_or(1) as u32;
+        (
+            MAP_ROW_LABEL_W + cols.max(1) * MAP_CELL_W + MAP_MARGIN,
+            MAP_PANEL_TITLE_H + rows.max(1) * MAP_CELL_H + MAP_PANEL_FOOT_H,
+        )
+    }
+
+    /// Legend lines: classes packed into lines no wider than the figure.
+    fn legend_lines(&self, width: u32) -> Vec<Vec<usize>> {
+        let mut lines: Vec<Vec<usize>> = vec![vec![]];
+        let mut x = MAP_MARGIN;
+        for (i, (label, _)) in self.classes.iter().enumerate() {
+            // ~8.5 px per character at 15 px, plus the swatch.
+            let w = 40 + (label.chars().count() as u32 * 17) / 2;
+            if x + w > width && !lines.last().unwrap().is_empty() {
+                lines.push(vec![]);
+                x = MAP_MARGIN;
+            }
+            lines.last_mut().unwrap().push(i);
+            x += w;
+        }
+        lines
+    }
+
+    /// Figure size in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        let (pw, ph) = self.panel_size();
+        let cols = self.columns.clamp(1, self.panels.len().max(1)) as u32;
+        let rows = (self.panels.len() as u32).div_ceil(cols).max(1);
+        let w = 2 * MAP_MARGIN + cols * pw;
+        let legend = self.legend_lines(w).len() as u32 * 24 + 10;
+        (w, MAP_HEADER_H + legend + rows * ph + MAP_MARGIN)
+    }
+}
+
+/// Render `map` to `path` (`.png` or `.svg`); deterministic like [`render`].
+pub fn render_map(map: &CellMap, path: &Path) -> Result<(), PlotError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if !matches!(ext.as_deref(), Some("png" | "svg")) {
+        return Err(PlotError::UnsupportedFormat {
+            path: path.to_path_buf(),
+        });
+    }
+    if !font_registered() {
+        return Err(PlotError::Font {
+            path: path.to_path_buf(),
+        });
+    }
+    let draw_err = |message: String| PlotError::Draw {
+        path: path.to_path_buf(),
+        message,
+    };
+    let (w, h) = map.size();
+    if ext.as_deref() == Some("svg") {
+        let mut svg = String::new();
+        {
+            let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
+            draw_map(&root, map).map_err(draw_err)?;
+            root.present().map_err(|e| draw_err(e.to_string()))?;
+        }
+        std::fs::write(path, svg).map_err(|source| PlotError::Io {
+            path: path.to_path_buf(),
+            source,
+        })
+    } else {
+        let mut buf = vec![0u8; w as usize * h as usize * 3];
+        {
+            let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+            draw_map(&root, map).map_err(draw_err)?;
+            root.present().map_err(|e| draw_err(e.to_string()))?;
+        }
+        write_png(path, &buf, w, h)
+    }
+}
+
+/// Black or white text, whichever reads better on `c` (relative luminance).
+fn text_on(c: [u8; 3]) -> RGBColor {
+    let l = 0.2126 * f64::from(c[0]) + 0.7152 * f64::from(c[1]) + 0.0722 * f64::from(c[2]);
+    if l > 140.0 {
+        BLACK
+    } else {
+        WHITE
+    }
+}
+
+fn draw_map<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    map: &CellMap,
+) -> Result<(), String> {
+    root.fill(&WHITE).map_err(err)?;
+    let (w, _) = map.size();
+    let centre = |size: u32, color: RGBColor| {
+        (FONT, size)
+            .into_font()
+            .color(&color)
+            .pos(Pos::new(HPos::Center, VPos::Center))
+    };
+    let left = |size: u32, color: RGBColor| {
+        (FONT, size)
+            .into_font()
+            .color(&color)
+            .pos(Pos::new(HPos::Left, VPos::Center))
+    };
+    let right = |size: u32| {
+        (FONT, size)
+            .into_font()
+            .color(&BLACK)
+            .pos(Pos::new(HPos::Right, VPos::Center))
+    };
+    let px = |v: u32| v as i32;
+    root.draw(&Text::new(
+        map.title.as_str(),
+        (px(w / 2), px(MAP_HEADER_H / 2)),
+        centre(24, BLACK),
+    ))
+    .map_err(err)?;
+    // Legend.
+    let lines = map.legend_lines(w);
+    for (li, line) in lines.iter().enumerate() {
+        let y = px(MAP_HEADER_H + li as u32 * 24 + 10);
+        let mut x = px(MAP_MARGIN);
+        for &i in line {
+            let (label, c) = &map.classes[i];
+            let col = RGBColor(c[0], c[1], c[2]);
+            root.draw(&Rectangle::new([(x, y - 8), (x + 28, y + 8)], col.filled()))
+                .map_err(err)?;
+            root.draw(&Rectangle::new(
+                [(x, y - 8), (x + 28, y + 8)],
+                RGBColor(90, 90, 90).stroke_width(1),
+            ))
+            .map_err(err)?;
+            root.draw(&Text::new(label.as_str(), (x + 34, y), left(15, BLACK)))
+                .map_err(err)?;
+            x += px(40 + (label.chars().count() as u32 * 17) / 2);
+        }
+    }
+    let top = MAP_HEADER_H + lines.len() as u32 * 24 + 10;
+    let (pw, ph) = map.panel_size();
+    let cols = map.columns.clamp(1, map.panels.len().max(1));
+    for (k, p) in map.panels.iter().enumerate() {
+        let x0 = MAP_MARGIN + (k % cols) as u32 * pw;
+        let y0 = top + (k / cols) as u32 * ph;
+        let gx = x0 + MAP_ROW_LABEL_W;
+        let gy = y0 + MAP_PANEL_TITLE_H;
+        let ncol = p.x_ticks.len() as u32;
+        root.draw(&Text::new(
+            p.title.as_str(),
+            (
+                px(gx + ncol * MAP_CELL_W / 2),
+                px(y0 + MAP_PANEL_TITLE_H / 2),
+            ),
+            centre(17, BLACK),
+        ))
+        .map_err(err)?;
+        for (r, name) in p.rows.iter().enumerate() {
+            let y = gy + r as u32 * MAP_CELL_H;
+            root.draw(&Text::new(
+                name.as_str(),
+                (px(gx - 8), px(y + MAP_CELL_H / 2)),
+                right(14),
+            ))
+            .map_err(err)?;
+            for c in 0..ncol {
+                let x = gx + c * MAP_CELL_W;
+                let cell = p
+                    .cells
+                    .get(r)
+                    .and_then(|row| row.get(c as usize))
+                    .cloned()
+                    .flatten();
+                let rect = [(px(x), px(y)), (px(x + MAP_CELL_W), px(y + MAP_CELL_H))];
+                if let Some((class, text)) = cell {
+                    let rgb = map.classes.get(class).map_or([200, 200, 200], |x| x.1);
+                    root.draw(&Rectangle::new(
+                        rect,
+                        RGBColor(rgb[0], rgb[1], rgb[2]).filled(),
+                    ))
+                    .map_err(err)?;
+                    if !text.is_empty() {
+                        root.draw(&Text::new(
+                            text,
+                            (px(x + MAP_CELL_W / 2), px(y + MAP_CELL_H / 2)),
+                            centre(12, text_on(rgb)),
+                        ))
+                        .map_err(err)?;
+                    }
+                }
+                root.draw(&Rectangle::new(rect, WHITE.stroke_width(1)))
+                    .map_err(err)?;
+            }
+        }
+        let gh = p.rows.len() as u32 * MAP_CELL_H;
+        for (c, tick) in p.x_ticks.iter().enumerate() {
+            root.draw(&Text::new(
+                tick.as_str(),
+                (
+                    px(gx + c as u32 * MAP_CELL_W + MAP_CELL_W / 2),
+                    px(gy + gh + 11),
+                ),
+                centre(13, BLACK),
+            ))
+            .map_err(err)?;
+        }
+        root.draw(&Text::new(
+            map.x_label.as_str(),
+            (px(gx + ncol * MAP_CELL_W / 2), px(gy + gh + 32)),
+            centre(14, RGBColor(60, 60, 60)),
+        ))
+        .map_err(err)?;
+        for (pos, label) in &p.marks {
+            if !pos.is_finite() || *pos < 0.0 || *pos > f64::from(ncol) {
+                continue;
+            }
+            let x = px(gx) + (pos * f64::from(MAP_CELL_W)).round() as i32;
+            let line = RGBColor(40, 40, 40).stroke_width(1);
+            root.draw(&PathElement::new(
+                vec![(x, px(gy) - 4), (x, px(gy + gh) + 2)],
+                line,
+            ))
+            .map_err(err)?;
+            root.draw(&Text::new(
+                label.as_str(),
+                (x + 3, px(gy) - 10),
+                left(12, BLACK),
+            ))
+            .map_err(err)?;
+        }
     }
     Ok(())
 }
