@@ -34,7 +34,7 @@ impl std::fmt::Display for Diagnosis {
         }
         write!(
             f,
-            ": {} = {:e} exceeds the limit {:e}",
+            ": {} = {:.6e} exceeds the limit {:.6e}",
             self.quantity, self.value, self.limit
         )
     }
@@ -53,7 +53,7 @@ pub enum Error {
     #[error("run stopped: {0}")]
     Unstable(Diagnosis),
     /// Stopped by SIGINT after writing a checkpoint.
-    #[error("{} at step {} (t = {:e} s)", .0.kind, .0.step, .0.t)]
+    #[error("{} at step {} (t = {:.9e} s)", .0.kind, .0.step, .0.t)]
     Interrupted(Diagnosis),
     #[error("cannot write {path}: {source}")]
     Io {
