@@ -15,8 +15,8 @@ use std::path::PathBuf;
 
 /// The default scene of `fibresim run` with no scenario.
 const DEFAULT_SCENE: (&str, &str) = (
-    "<built-in torque_fibre>",
-    include_str!("../scenarios/torque_fibre.toml"),
+    "<built-in nine_fibres>",
+    include_str!("../scenarios/nine_fibres.toml"),
 );
 
 fn main() {
