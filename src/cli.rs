@@ -90,7 +90,7 @@ pub struct ConvergeArgs {
     /// Comma-separated rotator names, `paper` (pcdm,scalar,euler,leapfrog) or `all`.
     #[arg(long, default_value = "paper")]
     pub rotators: String,
-    /// Largest time step, s [default: 10x the scene's; 1e-5 for test case 4, where first-order schemes are still pre-asymptotic].
+    /// Largest time step, s [default: 10x the scene's: 1e-5 for test case 4, the paper's range].
     #[arg(long = "dt-max")]
     pub dt_max: Option<f64>,
     /// Smallest time step, s [default: the scene's / 10; 1e-7 for test case 4].
