@@ -214,8 +214,11 @@ fn cmd_run(args: RunArgs) -> Result<()> {
                 s.ns_per_body_step,
                 out_dir.display()
             );
-            if let (Some(m), Some(f)) = (s.energy_error_full_max_pct, s.energy_error_full_final_pct) {
-                println!("energy error (Eq. 65 with elastic energy): max {m:.3e} %, final {f:.3e} %");
+            if let (Some(m), Some(f)) = (s.energy_error_full_max_pct, s.energy_error_full_final_pct)
+            {
+                println!(
+                    "energy error (Eq. 65 with elastic energy): max {m:.3e} %, final {f:.3e} %"
+                );
             }
             if let Some(o) = s.max_overlap_ratio {
                 println!("largest overlap: {o:.3e} D");
