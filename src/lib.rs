@@ -9,6 +9,15 @@
 //!   Kinematics `dq/dt = ½ ω_world ⊗ q = ½ q ⊗ ω_body`.
 //! - The time of step `n` is `t_n = n·δt`, computed by multiplication.
 //!
+//! ```
+//! use fibresim::math::{exp_map, geodesic_angle};
+//! use glam::{DQuat, DVec3};
+//! // A quarter turn about z maps body x onto world y (v_world = q v_body q*).
+//! let q = exp_map(DVec3::Z * std::f64::consts::FRAC_PI_2);
+//! assert!((q * DVec3::X - DVec3::Y).length() < 1e-15);
+//! assert!((geodesic_angle(DQuat::IDENTITY, q) - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+//! ```
+//!
 //! Data flows one way: [`scenario`] (raw TOML → checked [`scenario::Scene`]) →
 //! [`integrate`] (the fixed step sequence) → [`output`] (observers).
 
