@@ -1057,3 +1057,62 @@ fn parallel_blend_forces_are_gradient_of_potential() {
     assert!(blended >= 20, "{blended}");
     assert!(worst < 1e-6, "worst {worst}");
 }
+
+/// Test case 2 (leapfrog, t ≈ 1.20369 s): fibres 1 and 4 landing end on end
+/// at ~2° relative tilt crossed `PARALLEL_SIN` and a second contact
+/// (overlap 4.4e-4 m) appeared at once: +2.53 % total energy in one step.
+/// Reference: the pose at step 12036900, B turned about `a×b` around its
+/// end nearest A through |sin| ∈ [~0.02, ~0.05]; a continuous potential
+/// moves by ≲ 1e-2 U_max per sample.
+#[test]
+fn test_case_2_end_on_end_landing_is_continuous_through_parallel_sin() {
+    let a = FibreGeom {
+        centre: DVec3::new(0.7209146305904864, 0.7131195330848472, 0.06468098896751745),
+        axis: DVec3::new(
+            0.9953911689065181,
+            1.2235801044868157e-5,
+            -0.09589797032889108,
+        ),
+        radius: 0.005,
+        half_length: 0.0125,
+    };
+    let b = FibreGeom {
+        centre: DVec3::new(0.706595655389754, 0.7131471307797391, 0.07579719191137817),
+        axis: DVec3::new(
+            -0.9911841928958635,
+            -4.572348523317552e-5,
+            0.13249110786290116,
+        ),
+        radius: 0.005,
+        half_length: 0.0125,
+    };
+    let c = a.axis.cross(b.axis);
+    let sin0 = c.length();
+    assert!(sin0 > PARALLEL_SIN && sin0 < 0.04, "{sin0}");
+    let turn_axis = c / sin0;
+    let pivot = b.centre - b.half_length * b.axis;
+    let family = |x: f64| {
+        let q = DQuat::from_axis_angle(turn_axis, 0.015 * (2.0 * x - 1.0));
+        let mut b2 = b;
+        b2.axis = q * b.axis;
+        b2.centre = pivot + q * (b.centre - pivot);
+        (a, b2)
+    };
+    let sins: Vec<f64> = [0.0, 1.0]
+        .iter()
+        .map(|&x| {
+            let (a, b) = family(x);
+            a.axis.cross(b.axis).length()
+        })
+        .collect();
+    assert!(
+        sins.iter().any(|&s| s < PARALLEL_BLEND_SIN + 0.002)
+            && sins.iter().any(|&s| s > PARALLEL_SIN)
+    );
+    let (step, umax) = max_step(2000, &family);
+    println!(
+        "test case 2 landing: |sin| {sins:?}, max |ΔU|/U_max = {step:.2e} (U_max {umax:.2e} J)"
+    );
+    assert!(umax > 0.0);
+    assert!(step < 5e-3, "step {step}");
+}
