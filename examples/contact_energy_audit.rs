@@ -29,7 +29,7 @@ fn evaluate(a: &FibreGeom, law: &HertzLaw, kernel: Kernel) -> (f64, DVec3, DVec3
         u += p.weight * law.energy(p.overlap);
         let fi = p.weight * law.force(p.overlap) * p.normal;
         f += fi;
-        t += (p.point - a.centre).cross(fi);
+        t += (p.point - a.centre).cross(fi) - law.energy(p.overlap) * p.weight_grad;
     }
     (u, f, t, pts.len())
 }

@@ -8,7 +8,12 @@
 //!    model (smooth tilt torque; parry is wrong for exactly coaxial pairs).
 //! 2. **Side–side** (closest points of the axis segments interior to both, or
 //!    `|a×b| <` [`PARALLEL_SIN`] with overlapping axial projections): analytic,
-//!    see [`side_side`].
+//!    see [`side_side`]. Its second contact, and (closest points not
+//!    interior) its main contact, are blended with regime 3 over
+//!    `|a×b| ∈ [`[`PARALLEL_BLEND_SIN`]`, `[`PARALLEL_SIN`]`]` by an
+//!    orientation-dependent weight whose gradient is a pure couple
+//!    ([`ContactPoint::weight_grad`]), so the potential is continuous at
+//!    `PARALLEL_SIN`.
 //! 3. **End involved** (T-junction, rim on rim): `parry3d_f64::query::contact`
 //!    on two `Cylinder`s gives the contact normal (its "no contact" verdict
 //!    is trusted); the depth is then recomputed exactly as
@@ -38,6 +43,14 @@ use std::sync::atomic::{AtomicU64, Ordering};
 /// Below this |sin| of the inter-axis angle a pair counts as parallel for the
 /// line-contact treatment (≈ 2°).
 pub const PARALLEL_SIN: f64 = 0.035;
+/// Lower edge of the parallel blend band: the side–side-only terms (the
+/// second contact, and the side–side main contact where regime 3 takes over)
+/// have weight `w(|a×b|)`, 1 up to this |sin|, 0 from [`PARALLEL_SIN`] on,
+/// C¹ (smoothstep) in between; the exact-depth contact of regime 3 gets
+/// `1 − w` there. The weight's gradient is a pure couple
+/// ([`ContactPoint::weight_grad`]), so forces stay the exact gradient and
+/// the potential is continuous across `PARALLEL_SIN` (≈ 1.15°–2°).
+pub const PARALLEL_BLEND_SIN: f64 = 0.02;
 /// Below this |sin| an end-to-end pair counts as coaxial (≈ 1.1°).
 pub const COAXIAL_SIN: f64 = 0.02;
 /// Face blend width of the coaxial face model (half of [`COAXIAL_SIN`], so
@@ -203,14 +216,39 @@ fn deeper(x: Cand, y: Cand) -> Cand {
 
 #[inline]
 fn push(out: &mut Vec<ContactPoint>, c: Cand) {
-    if c.depth > 0.0 {
+    push_weighted(out, c, 1.0, DVec3::ZERO);
+}
+
+#[inline]
+fn push_weighted(out: &mut Vec<ContactPoint>, c: Cand, weight: f64, weight_grad: DVec3) {
+    if c.depth > 0.0 && weight > 0.0 {
         out.push(ContactPoint {
             point: c.point,
             normal: c.normal,
             overlap: c.depth,
-            weight: 1.0,
+            weight,
+            weight_grad,
         });
     }
+}
+
+/// Parallel blend weight `w(sin)` (see [`PARALLEL_BLEND_SIN`]) and its
+/// gradient with respect to a rotation of A: `dw/dsin · ∂sin/∂φ_A` with
+/// `∂|a×b|/∂φ_A = −(a·b) (a×b)/|a×b|`.
+#[inline]
+fn parallel_weight(a: &FibreGeom, b: &FibreGeom, sin: f64) -> (f64, DVec3) {
+    if sin <= PARALLEL_BLEND_SIN {
+        return (1.0, DVec3::ZERO);
+    }
+    if sin >= PARALLEL_SIN {
+        return (0.0, DVec3::ZERO);
+    }
+    let width = PARALLEL_SIN - PARALLEL_BLEND_SIN;
+    let x = (sin - PARALLEL_BLEND_SIN) / width;
+    let w = 1.0 - x * x * (3.0 - 2.0 * x);
+    let dw = -6.0 * x * (1.0 - x) / width;
+    let grad = (-dw * a.axis.dot(b.axis) / sin) * a.axis.cross(b.axis);
+    (w, grad)
 }
 
 /// Closest-point contact of the axis segments (the deepest point of a
@@ -272,14 +310,10 @@ fn closest_point_contact(a: &FibreGeom, b: &FibreGeom, s: f64, t: f64) -> Cand {
 /// `ℓ = δ_pd` instead of dropping two full contacts. Limit: inside that
 /// window (`ℓ < 2δ`, a few µm of sliding) the capped second contact's force
 /// is not the exact gradient of its cap.
-fn side_side(
-    a: &FibreGeom,
-    b: &FibreGeom,
-    s: f64,
-    t: f64,
-    axial_len: f64,
-    out: &mut Vec<ContactPoint>,
-) {
+///
+/// Returns `(main, second)`; the caller weights the second contact (and,
+/// outside the interior case, the main one) by the parallel blend weight.
+fn side_side(a: &FibreGeom, b: &FibreGeom, s: f64, t: f64, axial_len: f64) -> (Cand, Cand) {
     let cp = closest_point_contact(a, b, s, t);
     let sb = if a.axis.dot(b.axis) >= 0.0 { 1.0 } else { -1.0 };
     let lo = deeper(a_end(a, b, -1.0), b_end(a, b, -sb));
@@ -302,8 +336,7 @@ fn side_side(
         // At the switch ℓ = 2δ_main this cap is inactive (ℓ − δ_pd ≥ δ_small).
         small.depth = small.depth.min(axial_len - pd.depth);
     }
-    push(out, main);
-    push(out, small);
+    (main, small)
 }
 
 /// Near-coaxial end-to-end contact: A's facing end face (with the
@@ -442,9 +475,23 @@ pub fn contact_fibre_fibre(a: &FibreGeom, b: &FibreGeom, out: &mut Vec<ContactPo
         let hi = (mid + b.half_length * bb).min(a.half_length);
         hi - lo
     };
+    // Parallel blend: potential U(δ_main) + w·U(δ_2) when interior, else
+    // w·(U(δ_main) + U(δ_2)) + (1 − w)·U(δ_pd) (regime 3's exact depth), so
+    // the second contact and the model switch fade in/out continuously.
+    let (w_par, w_grad) = parallel_weight(a, b, sin);
+    let mut w_side = 0.0;
     if interior || (sin < PARALLEL_SIN && axial_len > 0.0) {
-        side_side(a, b, s, t, axial_len, out);
-        return;
+        let (main, second) = side_side(a, b, s, t, axial_len);
+        push_weighted(out, second, w_par, w_grad);
+        if interior {
+            push(out, main);
+            return;
+        }
+        push_weighted(out, main, w_par, w_grad);
+        if w_par >= 1.0 {
+            return;
+        }
+        w_side = w_par;
     }
 
     // 3. End involved: parry's normal (checked) seeds an exact minimisation
@@ -458,7 +505,12 @@ pub fn contact_fibre_fibre(a: &FibreGeom, b: &FibreGeom, out: &mut Vec<ContactPo
     if !parry_ok {
         PARRY_REJECTS.fetch_add(1, Ordering::Relaxed);
     }
-    push(out, penetration(a, b, [cp.normal, parry_n]));
+    let (w_pd, g_pd) = if w_side > 0.0 {
+        (1.0 - w_side, -w_grad)
+    } else {
+        (1.0, DVec3::ZERO)
+    };
+    push_weighted(out, penetration(a, b, [cp.normal, parry_n]), w_pd, g_pd);
 }
 
 /// Projection overlap along `n` (see [`projection_overlap`]).

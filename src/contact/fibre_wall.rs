@@ -91,6 +91,7 @@ pub fn contact_fibre_wall(f: &FibreGeom, w: &Wall, out: &mut Vec<ContactPoint>) 
                 normal: n,
                 overlap: depth,
                 weight: 1.0,
+                weight_grad: DVec3::ZERO,
             });
         }
     }

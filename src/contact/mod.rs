@@ -11,7 +11,11 @@
 //!   see [`fibre_wall`]; lying flat = two points, one per end.
 //! * fibre–fibre side–side: potential `U(δ_main) + U(min(δ_lo, δ_hi))`,
 //!   one point at a crossing, two points at the ends of the overlap for a
-//!   parallel pair, see [`fibre_fibre`].
+//!   parallel pair, see [`fibre_fibre`]. The second point fades out (and
+//!   the end-involved model fades in when the closest points are not
+//!   interior) over |sin| ∈ [0.02, 0.035] with an orientation-dependent
+//!   weight; its gradient is the couple carried in
+//!   [`ContactPoint::weight_grad`].
 //! * fibre–fibre with an end: one point, exact depth `min_n` of the
 //!   projection overlap (face cone blended as for walls).
 //!
@@ -55,7 +59,14 @@ pub struct Wall {
     pub offset: f64,
 }
 
-/// One Hertz contact: force on A is `weight * F(overlap) * normal` at `point`.
+/// One Hertz contact: force on A is `weight * F(overlap) * normal` at `point`,
+/// energy `weight * U(overlap)`.
+///
+/// A weight that depends on the relative orientation of the two bodies (the
+/// fibre–fibre parallel blend, see [`fibre_fibre::PARALLEL_BLEND_SIN`])
+/// carries its gradient: the potential `weight·U(overlap)` then also exerts
+/// the pure couple `−U(overlap) * weight_grad` on A and `+U(overlap) *
+/// weight_grad` on B (no net force). Zero for constant weights.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactPoint {
     /// Application point (world), midway between the two surfaces.
@@ -66,4 +77,7 @@ pub struct ContactPoint {
     pub overlap: f64,
     /// Share of the Hertz force/energy, in (0, 1].
     pub weight: f64,
+    /// Gradient of `weight` with respect to a rotation of A (rotation
+    /// vector, 1/rad); with respect to a rotation of B it is the negative.
+    pub weight_grad: DVec3,
 }

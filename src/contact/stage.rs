@@ -200,17 +200,20 @@ fn apply(
     stats.touching += 1;
     for c in points {
         let f = (c.weight * law.force(c.overlap)) * c.normal;
-        stats.elastic += c.weight * law.energy(c.overlap);
+        let u = law.energy(c.overlap);
+        stats.elastic += c.weight * u;
         let ratio_a = c.overlap / (2.0 * ga.radius);
         if ratio_a > stats.max_overlap_ratio {
             stats.max_overlap_ratio = ratio_a;
             stats.max_overlap_body = a;
         }
+        // Couple of an orientation-dependent weight (zero for walls).
+        let couple = -u * c.weight_grad;
         force[a] += f;
-        torque[a] += (c.point - ga.centre).cross(f);
+        torque[a] += (c.point - ga.centre).cross(f) + couple;
         if let Some(gb) = gb {
             force[b] -= f;
-            torque[b] -= (c.point - gb.centre).cross(f);
+            torque[b] -= (c.point - gb.centre).cross(f) + couple;
         }
     }
 }
