@@ -70,6 +70,23 @@ impl Inertia {
         self.inverse * (torque_b - omega_b.cross(self.principal * omega_b))
     }
 
+    /// Eq. 4 with a world-frame torque `τ_w` at orientation `q`:
+    /// `dω_b/dt = I⁻¹ (q* τ_w q − ω_b × I ω_b)`.
+    ///
+    /// A zero torque skips the rotation into the body frame (`q* 0 q = 0`
+    /// exactly, so the result is the same): in a contact scene most bodies
+    /// are free most of the time, and the rotation is a quarter of a
+    /// one-stage rotator's arithmetic.
+    #[inline]
+    pub fn angular_acceleration_world(&self, q: DQuat, omega_b: DVec3, torque_w: DVec3) -> DVec3 {
+        let torque_b = if torque_w == DVec3::ZERO {
+            DVec3::ZERO
+        } else {
+            q.conjugate() * torque_w
+        };
+        self.angular_acceleration(omega_b, torque_b)
+    }
+
     /// Rotational kinetic energy `½ ω_b · I ω_b`.
     #[inline]
     pub fn kinetic_energy(&self, omega_b: DVec3) -> f64 {

@@ -18,6 +18,7 @@ pub struct Ledger {
 }
 
 impl Ledger {
+    #[inline]
     pub fn measure(
         bodies: &[Body],
         states: &[BodyState],

@@ -276,24 +276,36 @@ fn run_with<R: Rotator>(
     let checkpoint_path = opts.out_dir.join(CHECKPOINT_FILE);
     let first_step = world.step;
 
+    // The next step that writes a row, a checkpoint or a progress tick:
+    // comparisons per step instead of three integer divisions.
+    let next_multiple = |n: u64| (world.step / n + 1) * n;
     let tick = (sim.steps / 1000).max(1);
+    let mut next_row = next_multiple(every);
+    let checkpoint_every = opts.checkpoint_every.unwrap_or(u64::MAX); // MAX: never
+    let mut next_checkpoint = next_multiple(checkpoint_every);
+    let mut next_tick = next_multiple(tick);
     let start = Instant::now();
     let mut stopped: Option<Diagnosis> = None;
     while world.step < sim.steps {
         if let Err(d) = world.step::<R>() {
-            stopped = Some(d);
+            stopped = Some(*d);
             break;
         }
-        let cadence = world.step % every == 0;
+        let cadence = world.step == next_row;
         let last = world.step == sim.steps;
         out.energy.account(&world.ledger, world.contact_stats());
         if cadence {
             out.write_row(scene, &world)?;
+            next_row += every;
         }
         // A checkpoint sees every on-cadence row of its step, never the
         // off-cadence final row, so a longer resumed run writes the same bytes.
         let interrupted = INTERRUPTED.load(Ordering::Relaxed);
-        if interrupted || opts.checkpoint_every.is_some_and(|n| world.step % n == 0) {
+        let periodic = world.step == next_checkpoint;
+        if periodic {
+            next_checkpoint += checkpoint_every;
+        }
+        if interrupted || periodic {
             out.checkpoint(scene, &world, every, &checkpoint_path)?;
         }
         if last && !cadence {
@@ -314,8 +326,9 @@ fn run_with<R: Rotator>(
             });
             break;
         }
-        if let Some(pb) = &pb {
-            if world.step % tick == 0 {
+        if world.step == next_tick {
+            next_tick += tick;
+            if let Some(pb) = &pb {
                 pb.set_position(world.step);
             }
         }
@@ -398,7 +411,7 @@ pub fn integrate_observed<'s>(
     ) -> std::result::Result<World<'s>, Diagnosis> {
         let mut world = World::new(scene);
         while world.step < scene.sim.steps {
-            world.step::<R>()?;
+            world.step::<R>().map_err(|d| *d)?;
             observe(&world);
         }
         Ok(world)

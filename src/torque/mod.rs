@@ -1,26 +1,28 @@
 //! Prescribed world-frame torques as functions of time (test cases 3 and 4).
 //!
 //! Each component is a constant or an expression in `t` (seconds) compiled once
-//! ([`Expr`]), e.g. `"5e-4*sin(200*pi*t)"`, `"1e-5*exp(3+24*t)"`, `"1e-5*5^(52*t)"`.
+//! ([`Expr`], flattened into a [`Program`]), e.g. `"5e-4*sin(200*pi*t)"`, `"1e-5*exp(3+24*t)"`, `"1e-5*5^(52*t)"`.
 //! Cost per evaluation is measured in `benches/rotators.rs` and quoted in the README.
 
 mod expr;
 
-pub use expr::Expr;
+pub use expr::{Expr, Program};
 use glam::DVec3;
 
 /// One compiled component; a constant is kept apart so `0` costs nothing.
 #[derive(Debug, Clone)]
 enum Component {
     Const(f64),
-    Expr(Expr),
+    Program(Program),
 }
 
 impl Component {
     fn parse(text: &str) -> Result<Self, String> {
         let c = match Expr::parse(text).map_err(|e| format!("cannot compile `{text}`: {e}"))? {
             Expr::Const(c) => Component::Const(c),
-            e => Component::Expr(e),
+            e => Component::Program(
+                Program::compile(&e).map_err(|e| format!("cannot compile `{text}`: {e}"))?,
+            ),
         };
         // Reject expressions that are not finite at t = 0 right away (e.g. `1/t`).
         let v0 = c.eval(0.0);
@@ -34,7 +36,7 @@ impl Component {
     fn eval(&self, t: f64) -> f64 {
         match self {
             Component::Const(c) => *c,
-            Component::Expr(e) => e.eval(t),
+            Component::Program(p) => p.eval(t),
         }
     }
 }

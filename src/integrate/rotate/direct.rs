@@ -8,7 +8,7 @@
 
 use super::{Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};
-use crate::math::{exp_map, to_body};
+use crate::math::exp_map;
 use glam::{DQuat, DVec3};
 
 pub struct Direct;
@@ -32,7 +32,7 @@ impl Rotator for Direct {
         dt: f64,
     ) -> Result<(), RotatorFault> {
         let q = rot.q;
-        let alpha = inertia.angular_acceleration(rot.omega_b, to_body(q, torque(t_n, q)));
+        let alpha = inertia.angular_acceleration_world(q, rot.omega_b, torque(t_n, q));
         rot.q = exp_map((q * rot.omega_b) * dt) * q;
         rot.omega_b += dt * alpha;
         Ok(())

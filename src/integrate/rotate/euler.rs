@@ -8,7 +8,7 @@
 
 use super::{Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};
-use crate::math::{pure, to_body};
+use crate::math::pure;
 use glam::{DQuat, DVec3};
 
 pub struct Euler;
@@ -32,7 +32,7 @@ impl Rotator for Euler {
         dt: f64,
     ) -> Result<(), RotatorFault> {
         let q = rot.q;
-        let alpha = inertia.angular_acceleration(rot.omega_b, to_body(q, torque(t_n, q)));
+        let alpha = inertia.angular_acceleration_world(q, rot.omega_b, torque(t_n, q));
         let omega_w = q * rot.omega_b;
         // Eq. 31, then Eq. 32 (the scheme's own renormalisation).
         rot.q = (q + pure(omega_w) * q * (0.5 * dt)).normalize();

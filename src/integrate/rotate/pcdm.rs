@@ -4,7 +4,7 @@
 //! 1. `α_n = α(ω_b,n, q_n* τ_n q_n)` (Eq. 56);
 //!    `ω_b,n+¼ = ω_b,n + (δt/4) α_n`, `ω_b,n+½ = ω_b,n + (δt/2) α_n` (Eq. 57);
 //! 2. predictor `q'_{n+½} = exp(ω_{n+¼} δt/2) q_n`, `ω_{n+¼} = q_n ω_b,n+¼ q_n*`
-//!    (Eq. 58–59);
+//!    (Eq. 58–59), evaluated as the equal `q_n exp(ω_b,n+¼ δt/2)`;
 //! 3. `α_{n+½} = α(ω_b,n+½, q'* τ_{n+½} q')` at the predicted orientation;
 //! 4. corrector `q_{n+1} = exp(ω_{n+½} δt) q_n`, `ω_{n+½} = q' ω_b,n+½ q'*`
 //!    (Eq. 60–61);
@@ -19,7 +19,7 @@
 
 use super::{Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};
-use crate::math::{exp_map, to_body, to_world};
+use crate::math::{exp_map, to_world};
 use glam::{DQuat, DVec3};
 
 /// PCDM with the mid-step torque at `t_n + δt/2`.
@@ -60,13 +60,16 @@ impl<const MID: bool> Rotator for PcdmScheme<MID> {
     ) -> Result<(), RotatorFault> {
         let q = rot.q;
         let w = rot.omega_b;
-        let alpha_n = inertia.angular_acceleration(w, to_body(q, torque(t_n, q)));
+        let alpha_n = inertia.angular_acceleration_world(q, w, torque(t_n, q));
         let w_quarter = w + (0.25 * dt) * alpha_n;
         let w_half = w + (0.5 * dt) * alpha_n;
-        let q_pred = exp_map(to_world(q, w_quarter) * (0.5 * dt)) * q;
+        // Eq. 58–59, `exp(ω_{n+¼} δt/2) q_n` with `ω_{n+¼} = q_n ω_b q_n*`, is
+        // the same quaternion as `q_n exp(ω_b,n+¼ δt/2)` (exp(q v q*) = q exp(v) q*),
+        // which needs no rotation of ω into the world frame.
+        let q_pred = q * exp_map(w_quarter * (0.5 * dt));
         let t_half = if MID { t_n + 0.5 * dt } else { t_n };
-        let alpha_half =
-            inertia.angular_acceleration(w_half, to_body(q_pred, torque(t_half, q_pred)));
+        let alpha_half = inertia.angular_acceleration_world(q_pred, w_half, torque(t_half, q_pred));
+        // Eq. 60–61.
         rot.q = exp_map(to_world(q_pred, w_half) * dt) * q;
         rot.omega_b = w + dt * alpha_half;
         Ok(())

@@ -10,7 +10,7 @@
 
 use super::{Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};
-use crate::math::{pure, to_body};
+use crate::math::pure;
 use glam::{DQuat, DVec3};
 
 pub struct Rk4;
@@ -25,7 +25,7 @@ fn rhs<T: Fn(f64, DQuat) -> DVec3>(
 ) -> (DQuat, DVec3) {
     let qn = q.normalize();
     let dq = q * pure(w) * 0.5;
-    let dw = inertia.angular_acceleration(w, to_body(qn, torque(t, qn)));
+    let dw = inertia.angular_acceleration_world(qn, w, torque(t, qn));
     (dq, dw)
 }
 

@@ -10,7 +10,7 @@
 
 use super::{Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};
-use crate::math::{pure, to_body};
+use crate::math::pure;
 use glam::{DQuat, DVec3};
 
 pub struct Scalar;
@@ -42,7 +42,7 @@ impl Rotator for Scalar {
         if n >= SCALAR_HALF_ANGLE_LIMIT {
             return Err(RotatorFault::ScalarSingularity { half_angle: n });
         }
-        let alpha = inertia.angular_acceleration(rot.omega_b, to_body(q, torque(t_n, q)));
+        let alpha = inertia.angular_acceleration_world(q, rot.omega_b, torque(t_n, q));
         // Eq. 45; tan(n)/n → 1 as n → 0.
         let f = if n > 0.0 { n.tan() / n } else { 1.0 };
         rot.q = (q + dq * f) * n.cos();
