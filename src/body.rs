@@ -82,7 +82,7 @@ impl Inertia {
         let torque_b = if torque_w == DVec3::ZERO {
             DVec3::ZERO
         } else {
-            q.conjugate() * torque_w
+            crate::math::to_body(q, torque_w)
         };
         self.angular_acceleration(omega_b, torque_b)
     }

@@ -18,7 +18,6 @@ pub struct Ledger {
 }
 
 impl Ledger {
-    #[inline]
     pub fn measure(
         bodies: &[Body],
         states: &[BodyState],
@@ -29,14 +28,19 @@ impl Ledger {
             elastic,
             ..Ledger::default()
         };
+        let g = gravity.unwrap_or(DVec3::ZERO);
         for (b, s) in bodies.iter().zip(states) {
-            if let Some(g) = gravity {
-                l.gravity -= b.mass * g.dot(s.x);
-            }
-            l.translation += 0.5 * b.mass * s.v.length_squared();
-            l.rotation += b.inertia.kinetic_energy(s.rot.omega_b);
+            l.add_body(b, s, g);
         }
         l
+    }
+
+    /// Add one body's terms (`g` = 0 without gravity).
+    #[inline]
+    pub fn add_body(&mut self, b: &Body, s: &BodyState, g: DVec3) {
+        self.gravity -= b.mass * g.dot(s.x);
+        self.translation += 0.5 * b.mass * s.v.length_squared();
+        self.rotation += b.inertia.kinetic_energy(s.rot.omega_b);
     }
 
     /// Eq. 64: the paper's total (no elastic term).

@@ -20,16 +20,31 @@ pub fn pure(v: DVec3) -> DQuat {
     DQuat::from_xyzw(v.x, v.y, v.z, 0.0)
 }
 
-/// Rotate a body-frame vector into the world frame, `q v q*` (Eq. 16).
+/// Rotate a body-frame vector into the world frame, `q v q*` (Eq. 16), for a
+/// unit `q = [w, b]`: `v + w t + b × t` with `t = 2 b × v` (30 flops; glam's
+/// `q * v` takes 38). Tested equal to glam's to rounding.
 #[inline]
 pub fn to_world(q: DQuat, v_body: DVec3) -> DVec3 {
-    q * v_body
+    let b = DVec3::new(q.x, q.y, q.z);
+    let t = 2.0 * b.cross(v_body);
+    v_body + q.w * t + b.cross(t)
 }
 
 /// Rotate a world-frame vector into the body frame, `q* v q`.
 #[inline]
 pub fn to_body(q: DQuat, v_world: DVec3) -> DVec3 {
-    q.conjugate() * v_world
+    to_world(q.conjugate(), v_world)
+}
+
+/// The body x axis (a fibre's symmetry axis) in the world, `q eₓ q*`: the
+/// first column of the rotation matrix of a unit `q`.
+#[inline]
+pub fn body_x_axis(q: DQuat) -> DVec3 {
+    DVec3::new(
+        1.0 - 2.0 * (q.y * q.y + q.z * q.z),
+        2.0 * (q.x * q.y + q.w * q.z),
+        2.0 * (q.x * q.z - q.w * q.y),
+    )
 }
 
 /// Transform a second-order tensor with quaternions only, paper Eq. 29:
@@ -85,6 +100,28 @@ pub fn angle_between(a: DVec3, b: DVec3) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The hand-written rotations agree with glam's `q * v` to rounding.
+    #[test]
+    fn rotations_match_glam() {
+        let mut worst: f64 = 0.0;
+        for i in 0..1000 {
+            let f = i as f64;
+            let q = DQuat::from_xyzw(
+                f.sin(),
+                (1.3 * f).cos(),
+                (0.7 * f + 1.0).sin(),
+                0.4 - (0.3 * f).cos(),
+            )
+            .normalize();
+            let v = DVec3::new((2.1 * f).cos(), 1.5 * (0.9 * f).sin(), -0.5);
+            worst = worst
+                .max((to_world(q, v) - q * v).length() / v.length())
+                .max((to_body(q, v) - q.conjugate() * v).length() / v.length())
+                .max((body_x_axis(q) - q * DVec3::X).length());
+        }
+        assert!(worst < 1e-15, "{worst:e}");
+    }
 
     /// The series branch agrees with libm to rounding on both sides of its switch.
     #[test]

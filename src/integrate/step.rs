@@ -13,6 +13,7 @@ use crate::energy::{error_pct, Ledger};
 use crate::error::Diagnosis;
 use crate::scenario::Scene;
 use glam::DVec3;
+use std::time::Instant;
 
 /// Largest accepted drift of a quaternion's norm from 1 (rounding only: every
 /// rotator keeps `‖q‖ = 1` by construction or by its own renormalisation).
@@ -103,12 +104,6 @@ impl<'s> World<'s> {
         self.step as f64 * self.scene.sim.dt
     }
 
-    #[inline]
-    fn acceleration(&self, i: usize) -> DVec3 {
-        let g = self.scene.gravity.unwrap_or(DVec3::ZERO);
-        self.force[i] * self.scene.bodies[i].inv_mass + g
-    }
-
     /// Stage 3: forces and torques at the current configuration. Without
     /// contacts there is nothing to compute (gravity enters as an acceleration).
     fn compute_forces(&mut self) {
@@ -136,38 +131,58 @@ impl<'s> World<'s> {
         let t_n = self.step as f64 * dt;
         let t_next = (self.step + 1) as f64 * dt;
         let scene = self.scene;
-        let clock = self.timers.map(|_| std::time::Instant::now());
+        let g = scene.gravity.unwrap_or(DVec3::ZERO);
+        let clock = self.timers.map(|_| Instant::now());
 
-        for i in 0..self.states.len() {
-            let a = self.acceleration(i);
-            let s = &mut self.states[i];
-            verlet::kick_drift(&mut s.x, &mut s.v, a, dt);
-            let contact = self.torque[i];
-            let prescribed = scene.torques[i].as_ref();
-            let torque = |t: f64, _q| prescribed.map_or(DVec3::ZERO, |p| p.at(t)) + contact;
-            R::advance(&mut s.rot, &scene.bodies[i].inertia, torque, t_n, dt)
-                .map_err(|f| Box::new(self.fault_diagnosis(f, i)))?;
+        // Stages 1–2: half-kick and drift, rotator `advance`.
+        let bodies = scene.bodies.iter().zip(&scene.torques);
+        let loads = self.force.iter().zip(&self.torque);
+        for (i, ((s, (body, prescribed)), (&f, &contact))) in
+            self.states.iter_mut().zip(bodies).zip(loads).enumerate()
+        {
+            verlet::kick_drift(&mut s.x, &mut s.v, f * body.inv_mass + g, dt);
+            let torque =
+                |t: f64, _q| prescribed.as_ref().map_or(DVec3::ZERO, |p| p.at(t)) + contact;
+            R::advance(&mut s.rot, &body.inertia, torque, t_n, dt)
+                .map_err(|fault| Box::new(fault_diagnosis(fault, i, self.step, t_n)))?;
         }
 
-        let clock_forces = clock.map(|_| std::time::Instant::now());
+        // Stage 3: forces at the new configuration.
+        let clock_forces = clock.map(|_| Instant::now());
         self.compute_forces();
-        let clock_after = clock.map(|_| std::time::Instant::now());
+        let clock_after = clock.map(|_| Instant::now());
 
-        for i in 0..self.states.len() {
-            let a = self.acceleration(i);
-            let s = &mut self.states[i];
-            verlet::kick(&mut s.v, a, dt);
+        // Stage 4, in one pass with the ledger of the finished state: closing
+        // half-kick, rotator `finish`, energy terms, per-body soundness.
+        let mut ledger = Ledger {
+            elastic: self.elastic,
+            ..Ledger::default()
+        };
+        let mut sound = true;
+        let bodies = scene.bodies.iter().zip(&scene.torques);
+        let loads = self.force.iter().zip(&self.torque);
+        for ((s, (body, prescribed)), (&f, &contact)) in
+            self.states.iter_mut().zip(bodies).zip(loads)
+        {
+            verlet::kick(&mut s.v, f * body.inv_mass + g, dt);
             if R::INFO.kick_drift_kick {
-                let contact = self.torque[i];
-                let prescribed = scene.torques[i].as_ref();
-                let torque = |t: f64, _q| prescribed.map_or(DVec3::ZERO, |p| p.at(t)) + contact;
-                R::finish(&mut s.rot, &scene.bodies[i].inertia, torque, t_next, dt);
+                let torque =
+                    |t: f64, _q| prescribed.as_ref().map_or(DVec3::ZERO, |p| p.at(t)) + contact;
+                R::finish(&mut s.rot, &body.inertia, torque, t_next, dt);
             }
+            ledger.add_body(body, s, g);
+            sound &= body_is_sound(s);
         }
         self.step += 1;
-        let clock_guards = clock.map(|_| std::time::Instant::now());
-        self.ledger = self.measure();
-        let verdict = self.check_state();
+        self.ledger = ledger;
+
+        // Stage 5: guards.
+        let clock_guards = clock.map(|_| Instant::now());
+        let verdict = if sound && self.scene_is_sound() {
+            Ok(())
+        } else {
+            self.diagnose_state().map_or(Ok(()), |d| Err(Box::new(d)))
+        };
         if let (Some(t), Some(c0), Some(c1), Some(c2), Some(c3)) = (
             &mut self.timers,
             clock,
@@ -182,64 +197,24 @@ impl<'s> World<'s> {
         verdict
     }
 
-    fn fault_diagnosis(&self, fault: RotatorFault, body: usize) -> Diagnosis {
-        match fault {
-            RotatorFault::ScalarSingularity { half_angle } => Diagnosis {
-                kind: "scalar-factor singularity (tan pole of Eq. 41); reduce dt or use pcdm"
-                    .into(),
-                step: self.step,
-                t: self.time(),
-                body: Some(body),
-                quantity: "|omega| dt / 2".into(),
-                value: half_angle,
-                limit: std::f64::consts::FRAC_PI_2,
-            },
-        }
-    }
-
-    /// Guards after a step: a finite state, unit quaternions, overlaps within
-    /// the Hertz range, and the energy budget. The common case is a cheap
-    /// predicate; only a failing step builds its diagnosis.
+    /// The scene-wide guards (overlap, energy) of the fast path; the
+    /// per-body ones are [`body_is_sound`]. Together as strict as
+    /// [`Self::diagnose_state`].
     #[inline]
-    fn check_state(&self) -> Result<(), Box<Diagnosis>> {
-        if self.state_is_sound() {
-            return Ok(());
-        }
-        match self.diagnose_state() {
-            Some(d) => Err(Box::new(d)),
-            None => Ok(()),
-        }
-    }
-
-    /// True when no guard fires: the fast path of [`Self::diagnose_state`],
-    /// as strict as it (the norm test `|‖q‖ − 1| ≤ tol` as bounds on `‖q‖²`).
-    #[inline]
-    fn state_is_sound(&self) -> bool {
-        const NORM2_LO: f64 = (1.0 - QUAT_NORM_TOLERANCE) * (1.0 - QUAT_NORM_TOLERANCE);
-        const NORM2_HI: f64 = (1.0 + QUAT_NORM_TOLERANCE) * (1.0 + QUAT_NORM_TOLERANCE);
+    fn scene_is_sound(&self) -> bool {
         let guards = &self.scene.guards;
-        if self
+        let overlap_ok = self
             .contacts
             .as_ref()
-            .is_some_and(|c| c.stats.max_overlap_ratio > guards.overlap_ratio)
-        {
-            return false;
-        }
-        if self.energy_guarded
-            && error_pct(self.ledger.total_full(), self.e0_full) > guards.energy_error_pct
-        {
-            return false;
-        }
-        self.states.iter().all(|s| {
-            let n2 = s.rot.q.length_squared();
-            s.x.is_finite()
-                && s.v.is_finite()
-                && s.rot.omega_b.is_finite()
-                && (NORM2_LO..=NORM2_HI).contains(&n2)
-        })
+            .is_none_or(|c| c.stats.max_overlap_ratio <= guards.overlap_ratio);
+        let energy = self.ledger.total_full();
+        overlap_ok
+            && energy.is_finite()
+            && !(self.energy_guarded && error_pct(energy, self.e0_full) > guards.energy_error_pct)
     }
 
-    /// The first guard that fires, with its named diagnosis.
+    /// The first guard that fires, with its named diagnosis; the most
+    /// specific first (a NaN state also has a NaN energy).
     #[cold]
     #[inline(never)]
     fn diagnose_state(&self) -> Option<Diagnosis> {
@@ -254,6 +229,33 @@ impl<'s> World<'s> {
                 value,
                 limit,
             };
+        for (i, s) in self.states.iter().enumerate() {
+            let finite = s.x.is_finite()
+                && s.v.is_finite()
+                && s.rot.q.is_finite()
+                && s.rot.omega_b.is_finite();
+            if !finite {
+                return Some(diag(
+                    "non-finite state (position, velocity, orientation or spin is NaN or infinite)",
+                    Some(i),
+                    "finite state",
+                    f64::NAN,
+                    f64::MAX,
+                ));
+            }
+        }
+        // A state can be finite while its energy overflows (|ω| ~ 1e154): stop
+        // there, before such rows reach the outputs.
+        let energy = self.ledger.total_full();
+        if !energy.is_finite() {
+            return Some(diag(
+                "non-finite energy (the state has overflowed)",
+                None,
+                "energy (J)",
+                energy,
+                f64::MAX,
+            ));
+        }
         if let Some(c) = self.contact_stats() {
             if c.max_overlap_ratio > guards.overlap_ratio {
                 return Some(diag(
@@ -265,7 +267,7 @@ impl<'s> World<'s> {
                 ));
             }
         }
-        let err = error_pct(self.ledger.total_full(), self.e0_full);
+        let err = error_pct(energy, self.e0_full);
         if err > guards.energy_error_pct && self.energy_guarded {
             return Some(diag(
                 "energy blow-up (full-budget energy error above the limit)",
@@ -276,34 +278,43 @@ impl<'s> World<'s> {
             ));
         }
         for (i, s) in self.states.iter().enumerate() {
-            let finite = s.x.is_finite()
-                && s.v.is_finite()
-                && s.rot.q.is_finite()
-                && s.rot.omega_b.is_finite();
-            if !finite {
-                return Some(Diagnosis {
-                    kind: "non-finite state (position, velocity, orientation or spin is NaN or infinite)".into(),
-                    step: self.step,
-                    t: self.time(),
-                    body: Some(i),
-                    quantity: "finite state".into(),
-                    value: f64::NAN,
-                    limit: f64::MAX,
-                });
-            }
             let drift = (s.rot.q.length() - 1.0).abs();
             if drift > QUAT_NORM_TOLERANCE {
-                return Some(Diagnosis {
-                    kind: "quaternion norm drift".into(),
-                    step: self.step,
-                    t: self.time(),
-                    body: Some(i),
-                    quantity: "| ||q|| - 1 |".into(),
-                    value: drift,
-                    limit: QUAT_NORM_TOLERANCE,
-                });
+                return Some(diag(
+                    "quaternion norm drift",
+                    Some(i),
+                    "| ||q|| - 1 |",
+                    drift,
+                    QUAT_NORM_TOLERANCE,
+                ));
             }
         }
         None
+    }
+}
+
+/// A body state the guards accept: finite, with `|‖q‖ − 1| ≤ tol` (tested as
+/// bounds on `‖q‖²`, which needs no square root).
+#[inline]
+fn body_is_sound(s: &BodyState) -> bool {
+    const NORM2_LO: f64 = (1.0 - QUAT_NORM_TOLERANCE) * (1.0 - QUAT_NORM_TOLERANCE);
+    const NORM2_HI: f64 = (1.0 + QUAT_NORM_TOLERANCE) * (1.0 + QUAT_NORM_TOLERANCE);
+    s.x.is_finite()
+        && s.v.is_finite()
+        && s.rot.omega_b.is_finite()
+        && (NORM2_LO..=NORM2_HI).contains(&s.rot.q.length_squared())
+}
+
+fn fault_diagnosis(fault: RotatorFault, body: usize, step: u64, t: f64) -> Diagnosis {
+    match fault {
+        RotatorFault::ScalarSingularity { half_angle } => Diagnosis {
+            kind: "scalar-factor singularity (tan pole of Eq. 41); reduce dt or use pcdm".into(),
+            step,
+            t,
+            body: Some(body),
+            quantity: "|omega| dt / 2".into(),
+            value: half_angle,
+            limit: std::f64::consts::FRAC_PI_2,
+        },
     }
 }

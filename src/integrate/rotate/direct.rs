@@ -8,7 +8,7 @@
 
 use super::{Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};
-use crate::math::exp_map;
+use crate::math::{exp_map, to_world};
 use glam::{DQuat, DVec3};
 
 pub struct Direct;
@@ -33,7 +33,7 @@ impl Rotator for Direct {
     ) -> Result<(), RotatorFault> {
         let q = rot.q;
         let alpha = inertia.angular_acceleration_world(q, rot.omega_b, torque(t_n, q));
-        rot.q = exp_map((q * rot.omega_b) * dt) * q;
+        rot.q = exp_map(to_world(q, rot.omega_b) * dt) * q;
         rot.omega_b += dt * alpha;
         Ok(())
     }

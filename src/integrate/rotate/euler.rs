@@ -8,7 +8,7 @@
 
 use super::{Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};
-use crate::math::pure;
+use crate::math::{pure, to_world};
 use glam::{DQuat, DVec3};
 
 pub struct Euler;
@@ -33,7 +33,7 @@ impl Rotator for Euler {
     ) -> Result<(), RotatorFault> {
         let q = rot.q;
         let alpha = inertia.angular_acceleration_world(q, rot.omega_b, torque(t_n, q));
-        let omega_w = q * rot.omega_b;
+        let omega_w = to_world(q, rot.omega_b);
         // Eq. 31, then Eq. 32 (the scheme's own renormalisation).
         rot.q = (q + pure(omega_w) * q * (0.5 * dt)).normalize();
         rot.omega_b += dt * alpha;

@@ -10,7 +10,7 @@
 
 use super::{Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};
-use crate::math::pure;
+use crate::math::{pure, to_world};
 use glam::{DQuat, DVec3};
 
 pub struct Scalar;
@@ -37,7 +37,7 @@ impl Rotator for Scalar {
         dt: f64,
     ) -> Result<(), RotatorFault> {
         let q = rot.q;
-        let dq = pure(q * rot.omega_b) * q * (0.5 * dt); // Eq. 44
+        let dq = pure(to_world(q, rot.omega_b)) * q * (0.5 * dt); // Eq. 44
         let n = dq.length();
         if n >= SCALAR_HALF_ANGLE_LIMIT {
             return Err(RotatorFault::ScalarSingularity { half_angle: n });
