@@ -95,8 +95,28 @@ impl Error {
     ) -> Self {
         Error::BadInput {
             file: file.into(),
+            line: None,
             key: key.into(),
             message: message.into(),
+        }
+    }
+
+    /// Attach the line and column of a bad-input key found in the scenario
+    /// `text` (see `scenario::locate`); other errors pass unchanged.
+    pub fn located(self, text: &str) -> Self {
+        match self {
+            Error::BadInput {
+                file,
+                line: None,
+                key,
+                message,
+            } => Error::BadInput {
+                line: crate::scenario::locate(text, &key),
+                file,
+                key,
+                message,
+            },
+            e => e,
         }
     }
 

@@ -240,30 +240,49 @@ fn bad_input_is_named_and_exits_2() {
         &[],
         &["scene.toml", "invalid type"],
     );
+    // Value errors give file:line:column of the key, the key and the fix.
     expect_bad_input(
         Some(&FIBRE.replace("diameter = 0.01", "diameter = -0.01")),
         &[],
-        &["body[0].diameter", "> 0"],
+        &["scene.toml:7:1: body[0].diameter: must be a finite number > 0, got -0.01; give a positive value"],
     );
     expect_bad_input(
         Some(&FIBRE.replace("diameter = 0.01", "diameter = nan")),
         &[],
-        &["body[0].diameter"],
+        &["scene.toml:7:1: body[0].diameter: must be a finite number > 0, got NaN; give a positive value"],
     );
     expect_bad_input(
         Some(&FIBRE.replace("length = 0.025", "length = 0.0")),
         &[],
-        &["body[0].length"],
+        &["scene.toml:8:1: body[0].length: must be a finite number > 0, got 0; give a positive value"],
+    );
+    expect_bad_input(
+        Some(&FIBRE.replace("density = 1100.0", "density = -1100.0")),
+        &[],
+        &["scene.toml:9:1: body[0].density: must be a finite number > 0, got -1100"],
     );
     expect_bad_input(
         Some(&FIBRE.replace("dt = 1e-4", "dt = 1.0")),
         &[],
-        &["simulation.dt", "larger than t_end"],
+        &[
+            "scene.toml:3:1: simulation.dt",
+            "larger than t_end",
+            "choose dt <= t_end",
+        ],
     );
     expect_bad_input(
         Some(&FIBRE.replace("\"1e-6\"", "\"1e-6*x\"")),
         &[],
-        &["body[0].torque[0]", "unknown name `x`"],
+        &["scene.toml:12:11: body[0].torque[0]", "unknown name `x`"],
+    );
+    // A value from a [material] table is located there.
+    expect_bad_input(
+        Some(
+            &(FIBRE.replace("density = 1100.0", "material = \"m\"")
+                + "[material.m]\ndensity = 0.0\n"),
+        ),
+        &[],
+        &["scene.toml:14:1: material.m.density: must be a finite number > 0, got 0"],
     );
     expect_bad_input(
         Some("[simulation]\ndt = 1e-4\nt_end = 1.0\n"),
@@ -273,7 +292,12 @@ fn bad_input_is_named_and_exits_2() {
     expect_bad_input(
         Some(FIBRE),
         &["--rotator", "pcdm", "--dt=-1"],
-        &["--dt", "> 0"],
+        &["command line: --dt: must be a finite number > 0, got -1; give a positive value"],
+    );
+    expect_bad_input(
+        Some(FIBRE),
+        &["--t-end", "0"],
+        &["command line: --t-end: must be a finite number > 0, got 0"],
     );
     expect_bad_input(
         Some(&FIBRE.replace("[simulation]", "[simulation]\nrotator = \"rk5\"")),
