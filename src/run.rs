@@ -272,7 +272,8 @@ fn run_with<R: Rotator>(
         .or(sim.every)
         .unwrap_or_else(|| default_every(sim.steps));
     let mut world = World::new(scene);
-    let mut out = open_outputs(scene, opts, &mut world, resume)?;
+    let mut out = open_outputs(scene, opts, &mut world, resume)
+        .map_err(crate::output::unwritable_at_start)?;
     let checkpoint_path = opts.out_dir.join(CHECKPOINT_FILE);
     let first_step = world.step;
 
