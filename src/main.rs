@@ -184,13 +184,22 @@ fn cmd_run(args: RunArgs) -> Result<()> {
     for w in &advice.warnings {
         eprintln!("warning: {w}");
     }
-    let default_out = match &args.resume {
-        Some(p) => p.parent().map_or_else(|| PathBuf::from("."), PathBuf::from),
+    // The checkpoint's folder ("." for a bare `checkpoint.json`).
+    let checkpoint_dir = args.resume.as_ref().map(|p| {
+        p.parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .map_or_else(|| PathBuf::from("."), PathBuf::from)
+    });
+    let default_out = match &checkpoint_dir {
+        Some(d) => d.clone(),
         None => PathBuf::from("out")
             .join(&stem)
             .join(scene.sim.rotator.name()),
     };
     let out_dir = args.out.clone().unwrap_or(default_out);
+    if let (Some(c), Some(from)) = (&checkpoint, &checkpoint_dir) {
+        run::copy_resume_outputs(c, from, &out_dir)?;
+    }
     let opts = RunOptions {
         out_dir: out_dir.clone(),
         every: None,
