@@ -4,12 +4,26 @@ use crate::integrate::rotate::RotatorKind;
 use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
 
+/// The exit-code table of `fibresim --help` (the README's "Exit codes").
+pub const EXIT_CODES: &str = "\
+Exit codes:
+  0    success
+  1    an output file could not be written mid-run (rows written so far are kept)
+  2    bad input: malformed TOML, unknown key, wrong type, non-physical value,
+       empty scene, missing file, unwritable output folder, dt > t_end; the
+       message names the file (and line), the key and the fix
+  3    the run was stopped as unstable: a named diagnosis on stderr and in
+       summary.json (`stopped`); every row written before the stop is kept
+  130  interrupted by Ctrl-C (SIGINT): the current step finishes, a checkpoint
+       is written, outputs are flushed; continue with `run --resume`";
+
 #[derive(Debug, Parser)]
 #[command(
     name = "fibresim",
     version,
     about = "DEM of frictionless Hertzian cylindrical fibres, for comparing quaternion rotation integrators",
-    after_help = "Exit codes: 0 success, 1 I/O failure, 2 bad input, 3 run stopped as unstable."
+    after_help = "Exit codes: 0 success, 1 I/O failure mid-run, 2 bad input, 3 run stopped as unstable, 130 interrupted (Ctrl-C). More with --help.",
+    after_long_help = EXIT_CODES
 )]
 pub struct Cli {
     #[command(subcommand)]

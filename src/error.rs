@@ -32,20 +32,45 @@ impl std::fmt::Display for Diagnosis {
         if let Some(b) = self.body {
             write!(f, ", body {b}")?;
         }
-        write!(
-            f,
-            ": {} = {:.6e} exceeds the limit {:.6e}",
-            self.quantity, self.value, self.limit
-        )
+        if !self.value.is_finite() {
+            // A non-numeric stop has no limit to compare with: say what is not
+            // finite. The state guard names its quantity "finite state".
+            let what = self
+                .quantity
+                .strip_prefix("finite ")
+                .unwrap_or(&self.quantity);
+            let v = if self.value.is_nan() {
+                "NaN"
+            } else if self.value > 0.0 {
+                "+inf"
+            } else {
+                "-inf"
+            };
+            return write!(f, ": {what} is {v} (must be finite)");
+        }
+        write!(f, ": {} = {:.6e}", self.quantity, self.value)?;
+        if self.limit.is_finite() && self.limit < f64::MAX {
+            write!(f, " exceeds the limit {:.6e}", self.limit)
+        } else {
+            write!(f, " is out of range")
+        }
     }
+}
+
+/// `:line:column` of a scenario-file error, or nothing.
+fn at(line: &Option<(usize, usize)>) -> String {
+    line.map_or(String::new(), |(l, c)| format!(":{l}:{c}"))
 }
 
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
-    /// The scenario file or the command line is wrong. `file` and `key` locate it.
-    #[error("{file}: {key}: {message}")]
+    /// The scenario file or the command line is wrong. `file`, `line` (1-based
+    /// line and column of the key in the file, when it has one) and `key`
+    /// locate it; `message` says what is wrong and how to fix it.
+    #[error("{file}{}: {key}: {message}", at(.line))]
     BadInput {
         file: String,
+        line: Option<(usize, usize)>,
         key: String,
         message: String,
     },
@@ -70,8 +95,28 @@ impl Error {
     ) -> Self {
         Error::BadInput {
             file: file.into(),
+            line: None,
             key: key.into(),
             message: message.into(),
+        }
+    }
+
+    /// Attach the line and column of a bad-input key found in the scenario
+    /// `text` (see `scenario::locate`); other errors pass unchanged.
+    pub fn located(self, text: &str) -> Self {
+        match self {
+            Error::BadInput {
+                file,
+                line: None,
+                key,
+                message,
+            } => Error::BadInput {
+                line: crate::scenario::locate(text, &key),
+                file,
+                key,
+                message,
+            },
+            e => e,
         }
     }
 

@@ -129,14 +129,22 @@ fn cmd_check(args: CheckArgs) -> Result<()> {
         if scene.reference.is_some() { "yes" } else { "no" });
     if !a.pairs.is_empty() {
         println!("\nimpact speeds bounded by energy conservation: E_avail = {:.4e} J (all of it into one body)", a.available_energy);
+        println!("m* = effective mass at the worst contact point: 1/m_eff = 1/m + |r x n|^2 / I_transverse, lever arm");
+        println!("  |r x n| = max(D/2, L/2) (a fibre's end hit along its side normal); a pair sums 1/m_eff of its bodies");
+        println!("  and their bounds v_max = sqrt(2 E_avail / m_eff); m_trans = the translational mass alone, for comparison");
         println!(
-            "  {:<24} {:>11} {:>11} {:>13} {:>13}",
-            "pair", "m* (kg)", "v_max (m/s)", "t_Hertz (s)", "t_Rayleigh (s)"
+            "  {:<24} {:>11} {:>12} {:>11} {:>13} {:>14}",
+            "pair", "m* (kg)", "m_trans (kg)", "v_max (m/s)", "t_Hertz (s)", "t_Rayleigh (s)"
         );
         for p in &a.pairs {
             println!(
-                "  {:<24} {:>11.4e} {:>11.4e} {:>13.4e} {:>13.4e}",
-                p.pair, p.reduced_mass, p.v_max, p.contact_time, p.rayleigh_time
+                "  {:<24} {:>11.4e} {:>12.4e} {:>11.4e} {:>13.4e} {:>14.4e}",
+                p.pair,
+                p.reduced_mass,
+                p.translational_mass,
+                p.v_max,
+                p.contact_time,
+                p.rayleigh_time
             );
         }
     }
@@ -184,13 +192,22 @@ fn cmd_run(args: RunArgs) -> Result<()> {
     for w in &advice.warnings {
         eprintln!("warning: {w}");
     }
-    let default_out = match &args.resume {
-        Some(p) => p.parent().map_or_else(|| PathBuf::from("."), PathBuf::from),
+    // The checkpoint's folder ("." for a bare `checkpoint.json`).
+    let checkpoint_dir = args.resume.as_ref().map(|p| {
+        p.parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .map_or_else(|| PathBuf::from("."), PathBuf::from)
+    });
+    let default_out = match &checkpoint_dir {
+        Some(d) => d.clone(),
         None => PathBuf::from("out")
             .join(&stem)
             .join(scene.sim.rotator.name()),
     };
     let out_dir = args.out.clone().unwrap_or(default_out);
+    if let (Some(c), Some(from)) = (&checkpoint, &checkpoint_dir) {
+        run::copy_resume_outputs(c, from, &out_dir)?;
+    }
     let opts = RunOptions {
         out_dir: out_dir.clone(),
         every: None,

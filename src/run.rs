@@ -116,6 +116,57 @@ pub fn scene_from_checkpoint(c: &Checkpoint, t_end: Option<f64>) -> Result<Scene
     Ok(scene)
 }
 
+/// Resuming into another folder than the checkpoint's (`--resume C --out NEW`):
+/// copy the checkpoint folder's outputs, cut to the lengths the checkpoint
+/// recorded, into `to`, where the resumed run then appends. Nothing happens
+/// when `to` is the checkpoint's folder.
+pub fn copy_resume_outputs(
+    c: &Checkpoint,
+    from: &std::path::Path,
+    to: &std::path::Path,
+) -> Result<()> {
+    use std::io::Read;
+    // Copying a folder onto itself would truncate the files it reads.
+    let same = from == to
+        || match (from.canonicalize(), to.canonicalize()) {
+            (Ok(a), Ok(b)) => a == b,
+            _ => false,
+        };
+    if same {
+        return Ok(());
+    }
+    crate::output::create_out_dir(to)?;
+    let files = [
+        ("energy.csv", Some(c.energy_csv_len)),
+        ("orientation.csv", c.orientation_csv_len),
+    ];
+    for (name, len) in files {
+        let Some(len) = len else { continue };
+        let src = from.join(name);
+        let missing = |e: String| {
+            Error::bad(
+                src.display().to_string(),
+                "--resume",
+                format!(
+                    "{e}; the checkpoint's folder must still hold the outputs it was written with"
+                ),
+            )
+        };
+        let f = std::fs::File::open(&src).map_err(|e| missing(format!("cannot read: {e}")))?;
+        let have = f.metadata().map_err(|e| missing(e.to_string()))?.len();
+        if have < len {
+            return Err(missing(format!(
+                "is {have} bytes, shorter than the {len} the checkpoint recorded"
+            )));
+        }
+        let dst = to.join(name);
+        let mut w = std::fs::File::create(&dst)
+            .map_err(|e| crate::output::unwritable_at_start(Error::io(&dst, e)))?;
+        std::io::copy(&mut f.take(len), &mut w).map_err(|e| Error::io(&dst, e))?;
+    }
+    Ok(())
+}
+
 fn progress_bar(steps: u64, enabled: bool) -> Option<indicatif::ProgressBar> {
     if !enabled || !std::io::stderr().is_terminal() {
         return None;
@@ -272,7 +323,8 @@ fn run_with<R: Rotator>(
         .or(sim.every)
         .unwrap_or_else(|| default_every(sim.steps));
     let mut world = World::new(scene);
-    let mut out = open_outputs(scene, opts, &mut world, resume)?;
+    let mut out = open_outputs(scene, opts, &mut world, resume)
+        .map_err(crate::output::unwritable_at_start)?;
     let checkpoint_path = opts.out_dir.join(CHECKPOINT_FILE);
     let first_step = world.step;
 

@@ -240,30 +240,49 @@ fn bad_input_is_named_and_exits_2() {
         &[],
         &["scene.toml", "invalid type"],
     );
+    // Value errors give file:line:column of the key, the key and the fix.
     expect_bad_input(
         Some(&FIBRE.replace("diameter = 0.01", "diameter = -0.01")),
         &[],
-        &["body[0].diameter", "> 0"],
+        &["scene.toml:7:1: body[0].diameter: must be a finite number > 0, got -0.01; give a positive value"],
     );
     expect_bad_input(
         Some(&FIBRE.replace("diameter = 0.01", "diameter = nan")),
         &[],
-        &["body[0].diameter"],
+        &["scene.toml:7:1: body[0].diameter: must be a finite number > 0, got NaN; give a positive value"],
     );
     expect_bad_input(
         Some(&FIBRE.replace("length = 0.025", "length = 0.0")),
         &[],
-        &["body[0].length"],
+        &["scene.toml:8:1: body[0].length: must be a finite number > 0, got 0; give a positive value"],
+    );
+    expect_bad_input(
+        Some(&FIBRE.replace("density = 1100.0", "density = -1100.0")),
+        &[],
+        &["scene.toml:9:1: body[0].density: must be a finite number > 0, got -1100"],
     );
     expect_bad_input(
         Some(&FIBRE.replace("dt = 1e-4", "dt = 1.0")),
         &[],
-        &["simulation.dt", "larger than t_end"],
+        &[
+            "scene.toml:3:1: simulation.dt",
+            "larger than t_end",
+            "choose dt <= t_end",
+        ],
     );
     expect_bad_input(
         Some(&FIBRE.replace("\"1e-6\"", "\"1e-6*x\"")),
         &[],
-        &["body[0].torque[0]", "unknown name `x`"],
+        &["scene.toml:12:11: body[0].torque[0]", "unknown name `x`"],
+    );
+    // A value from a [material] table is located there.
+    expect_bad_input(
+        Some(
+            &(FIBRE.replace("density = 1100.0", "material = \"m\"")
+                + "[material.m]\ndensity = 0.0\n"),
+        ),
+        &[],
+        &["scene.toml:14:1: material.m.density: must be a finite number > 0, got 0"],
     );
     expect_bad_input(
         Some("[simulation]\ndt = 1e-4\nt_end = 1.0\n"),
@@ -273,7 +292,12 @@ fn bad_input_is_named_and_exits_2() {
     expect_bad_input(
         Some(FIBRE),
         &["--rotator", "pcdm", "--dt=-1"],
-        &["--dt", "> 0"],
+        &["command line: --dt: must be a finite number > 0, got -1; give a positive value"],
+    );
+    expect_bad_input(
+        Some(FIBRE),
+        &["--t-end", "0"],
+        &["command line: --t-end: must be a finite number > 0, got 0"],
     );
     expect_bad_input(
         Some(&FIBRE.replace("[simulation]", "[simulation]\nrotator = \"rk5\"")),
@@ -283,7 +307,11 @@ fn bad_input_is_named_and_exits_2() {
     expect_bad_input(
         None,
         &["--out", "/proc/nope/out"],
-        &["--out", "cannot create"],
+        &[
+            "--out",
+            "cannot create the output folder",
+            "choose another folder",
+        ],
     );
     // Bodies outside the box, and overlapping at the start.
     let boxed = |bodies: &str| {
@@ -323,5 +351,80 @@ fn bad_input_is_named_and_exits_2() {
     );
     let o = fibresim(&["run", "does/not/exist.toml", "-q"]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("does/not/exist.toml") && stderr(&o).contains("cannot read"));
+    assert!(
+        stderr(&o).contains("does/not/exist.toml: <SCENARIO>: cannot read the scenario file")
+            && stderr(&o).contains("give the path of a scenario TOML file"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+/// An output folder that exists but cannot take files is bad input naming
+/// `--out` (exit 2), even for root: /proc/self takes no new files, and a
+/// regular file is no folder.
+#[test]
+fn unwritable_output_folder_is_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("a_file");
+    std::fs::write(&file, "").unwrap();
+    for (out, needle) in [
+        (
+            "/proc/self".to_string(),
+            "/proc/self/energy.csv: --out: cannot write the output file",
+        ),
+        (
+            file.display().to_string(),
+            "--out: cannot create the output folder",
+        ),
+    ] {
+        let o = fibresim(&[
+            "run",
+            "scenarios/torque_sphere.toml",
+            "--t-end",
+            "0.01",
+            "-q",
+            "--out",
+            &out,
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{}", stderr(&o));
+        assert!(stderr(&o).contains("folder") && stderr(&o).contains("with --out DIR"));
+    }
+}
+
+/// A write that fails mid-run (energy.csv on /dev/full: created fine, every
+/// write fails with ENOSPC) stays an I/O error, exit 1.
+#[test]
+fn write_failure_mid_run_exits_1() {
+    let dir = tempfile::tempdir().unwrap();
+    std::os::unix::fs::symlink("/dev/full", dir.path().join("energy.csv")).unwrap();
+    let o = fibresim(&[
+        "run",
+        "scenarios/torque_sphere.toml",
+        "--every",
+        "1",
+        "-q",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("cannot write") && stderr(&o).contains("energy.csv"));
+    assert!(!stderr(&o).contains("--out"), "{}", stderr(&o));
+}
+
+/// The long help carries the exit-code table, 130 included; -h a summary.
+#[test]
+fn help_lists_the_exit_codes() {
+    let long = fibresim(&["--help"]);
+    let text = String::from_utf8_lossy(&long.stdout);
+    for needle in [
+        "Exit codes:",
+        "  2    bad input",
+        "  3    the run was stopped",
+        "  130  interrupted by Ctrl-C",
+    ] {
+        assert!(text.contains(needle), "--help lacks `{needle}`:\n{text}");
+    }
+    let short = String::from_utf8_lossy(&fibresim(&["-h"]).stdout).into_owned();
+    assert!(short.contains("130 interrupted"), "{short}");
 }

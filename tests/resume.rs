@@ -121,24 +121,62 @@ torque = ["5e-4*sin(200*pi*t)", "1e-5*exp(3+24*t)", "1e-5*5^(52*t)"]
     );
 }
 
+/// `--resume CKPT --out NEW`: the checkpoint folder's outputs, cut to the
+/// checkpoint, are continued in NEW; the checkpoint's own folder is untouched.
 #[test]
-fn sigint_writes_a_checkpoint_and_resume_completes_identically() {
+fn resume_into_another_folder_gives_the_same_bytes() {
     let dir = tempfile::tempdir().unwrap();
     let scene = dir.path().join("s.toml");
-    // Long enough (4e6 steps, a few seconds) that the signal lands mid-run.
-    std::fs::write(&scene, DROP.replace("t_end = 0.04", "t_end = 4.0")).unwrap();
+    std::fs::write(&scene, DROP).unwrap();
     let scene = scene.to_str().unwrap();
-    let whole = dir.path().join("whole");
-    let cut = dir.path().join("cut");
+    let (whole, split, moved) = (
+        dir.path().join("w"),
+        dir.path().join("s"),
+        dir.path().join("m"),
+    );
+    let run = |out: &Path, extra: &[&str]| {
+        let mut a = vec![
+            "run",
+            scene,
+            "--every",
+            "7",
+            "-q",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        a.extend(extra);
+        ok(fibresim(&a));
+    };
+    run(&whole, &[]);
+    // Checkpoint at 0.015 s, then the run goes on to 0.02 s in its own folder.
+    run(&split, &["--t-end", "0.02", "--checkpoint-every", "15000"]);
+    let before = read(&split.join("energy.csv"));
+    let ckpt = split.join("checkpoint.json");
     ok(fibresim(&[
         "run",
-        scene,
-        "--every",
-        "1000",
+        "--resume",
+        ckpt.to_str().unwrap(),
+        "--t-end",
+        "0.04",
         "-q",
         "--out",
-        whole.to_str().unwrap(),
+        moved.to_str().unwrap(),
     ]));
+    assert_eq!(
+        read(&whole.join("energy.csv")),
+        read(&moved.join("energy.csv"))
+    );
+    assert_eq!(
+        read(&split.join("energy.csv")),
+        before,
+        "source folder changed"
+    );
+    let s: serde_json::Value = serde_json::from_slice(&read(&moved.join("summary.json"))).unwrap();
+    assert_eq!(s["steps"], 40000);
+}
+
+/// Send SIGINT to a run once it is writing; `None` if it finished first.
+fn interrupt(scene: &str, out: &Path) -> Option<std::process::ExitStatus> {
     let mut child = Command::new(env!("CARGO_BIN_EXE_fibresim"))
         .args([
             "run",
@@ -147,30 +185,83 @@ fn sigint_writes_a_checkpoint_and_resume_completes_identically() {
             "1000",
             "-q",
             "--out",
-            cut.to_str().unwrap(),
+            out.to_str().unwrap(),
         ])
+        .stderr(std::process::Stdio::null())
         .spawn()
         .unwrap();
-    std::thread::sleep(std::time::Duration::from_millis(400));
+    // energy.csv exists only after the SIGINT handler is installed.
+    let t0 = std::time::Instant::now();
+    while !out.join("energy.csv").exists() {
+        assert!(t0.elapsed().as_secs() < 60, "the run never started");
+        if child.try_wait().unwrap().is_some() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
     let _ = Command::new("kill")
         .args(["-INT", &child.id().to_string()])
         .status();
     let status = child.wait().unwrap();
-    let ckpt = cut.join("checkpoint.json");
-    if status.success() {
-        // The machine was fast enough to finish first: nothing to resume.
-        eprintln!("run finished before the signal; skipping the resume half");
-        return;
-    }
+    (!status.success()).then_some(status)
+}
+
+#[test]
+fn sigint_writes_a_checkpoint_and_resume_completes_identically() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("s.toml");
+    let cut = dir.path().join("cut");
+    // Ten times longer on each retry (4e6 steps take ~0.6 s): the test fails
+    // rather than pass without a signal having landed mid-run.
+    let status = [4.0, 40.0, 400.0]
+        .iter()
+        .find_map(|t_end| {
+            std::fs::write(
+                &scene,
+                DROP.replace("t_end = 0.04", &format!("t_end = {t_end:?}")),
+            )
+            .unwrap();
+            let _ = std::fs::remove_dir_all(&cut);
+            interrupt(scene.to_str().unwrap(), &cut)
+        })
+        .expect("every run finished before SIGINT arrived: nothing was tested");
     assert_eq!(status.code(), Some(130));
     let s: serde_json::Value = serde_json::from_slice(&read(&cut.join("summary.json"))).unwrap();
     assert!(s["stopped"]["kind"]
         .as_str()
         .unwrap()
         .contains("interrupted"));
-    ok(fibresim(&["run", "--resume", ckpt.to_str().unwrap(), "-q"]));
+    // Resume to a little past the interrupt (a multiple of --every, so the
+    // last row is on cadence) and compare with an uninterrupted run to there.
+    let ckpt = cut.join("checkpoint.json");
+    let c: serde_json::Value = serde_json::from_slice(&read(&ckpt)).unwrap();
+    let steps = (c["step"].as_u64().unwrap() / 1000 + 50) * 1000;
+    let t = format!("{:e}", steps as f64 * 1e-6);
+    ok(fibresim(&[
+        "run",
+        "--resume",
+        ckpt.to_str().unwrap(),
+        "--t-end",
+        &t,
+        "-q",
+    ]));
+    let whole = dir.path().join("whole");
+    let scene = scene.to_str().unwrap();
+    ok(fibresim(&[
+        "run",
+        scene,
+        "--every",
+        "1000",
+        "--t-end",
+        &t,
+        "-q",
+        "--out",
+        whole.to_str().unwrap(),
+    ]));
     assert_eq!(
         read(&whole.join("energy.csv")),
         read(&cut.join("energy.csv"))
     );
+    let s: serde_json::Value = serde_json::from_slice(&read(&cut.join("summary.json"))).unwrap();
+    assert_eq!(s["steps"].as_u64(), Some(steps));
 }

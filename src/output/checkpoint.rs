@@ -94,10 +94,20 @@ impl Checkpoint {
 
     pub fn read(path: &Path) -> Result<Self> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| Error::bad(&file, "-", format!("cannot read the checkpoint: {e}")))?;
-        let c: Checkpoint = serde_json::from_str(&text)
-            .map_err(|e| Error::bad(&file, "-", format!("not a fibresim checkpoint: {e}")))?;
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            Error::bad(
+                &file,
+                "--resume",
+                format!("cannot read the checkpoint: {e}; give the checkpoint.json a run wrote (--checkpoint-every N, or Ctrl-C)"),
+            )
+        })?;
+        let c: Checkpoint = serde_json::from_str(&text).map_err(|e| {
+            Error::bad(
+                &file,
+                "--resume",
+                format!("not a fibresim checkpoint: {e}; give the checkpoint.json a run wrote"),
+            )
+        })?;
         if c.format != FORMAT {
             return Err(Error::bad(
                 &file,

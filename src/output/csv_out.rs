@@ -115,7 +115,23 @@ fn reopen(path: &Path, len: u64) -> Result<csv::Writer<BufWriter<File>>> {
     let mut f = std::fs::OpenOptions::new()
         .write(true)
         .open(path)
-        .map_err(|e| Error::io(path, e))?;
+        .map_err(|e| match e.kind() {
+            std::io::ErrorKind::NotFound => Error::bad(
+                path.display().to_string(),
+                "--resume",
+                format!("the output file the checkpoint continues is missing ({e}); resume from the checkpoint in its own folder"),
+            ),
+            _ => Error::io(path, e),
+        })?;
+    let have = f.metadata().map_err(|e| Error::io(path, e))?.len();
+    if have < len {
+        // set_len would pad with zero bytes: the file is not the one checkpointed.
+        return Err(Error::bad(
+            path.display().to_string(),
+            "--resume",
+            format!("is {have} bytes, shorter than the {len} the checkpoint recorded: it was changed after the checkpoint; rerun from the start"),
+        ));
+    }
     f.set_len(len).map_err(|e| Error::io(path, e))?;
     f.seek(SeekFrom::End(0)).map_err(|e| Error::io(path, e))?;
     Ok(csv::WriterBuilder::new()

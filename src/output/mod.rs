@@ -17,9 +17,24 @@ pub fn create_out_dir(dir: &std::path::Path) -> crate::error::Result<()> {
         crate::error::Error::bad(
             dir.display().to_string(),
             "--out",
-            format!("cannot create the output folder: {e}"),
+            format!("cannot create the output folder: {e}; choose another folder with --out DIR"),
         )
     })
+}
+
+/// An output file that cannot be created when a run starts is bad input
+/// naming `--out` (exit 2); the same failure mid-run stays an I/O error.
+pub fn unwritable_at_start(e: crate::error::Error) -> crate::error::Error {
+    match e {
+        crate::error::Error::Io { path, source } => crate::error::Error::bad(
+            path.display().to_string(),
+            "--out",
+            format!(
+                "cannot write the output file: {source}; choose a folder you can write to with --out DIR"
+            ),
+        ),
+        e => e,
+    }
 }
 
 /// Default output cadence: at most 2e4 rows (well under the ~1e5 budget, so the

@@ -11,6 +11,9 @@ use crate::torque::PrescribedTorque;
 use glam::{DQuat, DVec3};
 use std::path::Path;
 
+/// Bodies (any point of them) must move slower than this, m/s.
+pub const SPEED_OF_LIGHT: f64 = 299_792_458.0;
+
 /// Numerical parameters of a run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimParams {
@@ -34,7 +37,12 @@ impl SimParams {
     ) -> Result<Self> {
         let cx = Ctx { src };
         let dt = cx.positive(&format!("{prefix}dt"), dt)?;
-        let key_t = format!("{prefix}t_end");
+        // Flags are spelled with a hyphen, file keys with an underscore.
+        let key_t = if prefix == "--" {
+            "--t-end".to_string()
+        } else {
+            format!("{prefix}t_end")
+        };
         let t_end = cx.positive(&key_t, t_end)?;
         if dt > t_end {
             return Err(cx.err(
@@ -168,8 +176,13 @@ impl Scene {
 /// Read and validate a scenario file.
 pub fn load(path: &Path) -> Result<Scene> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Error::bad(&file, "-", format!("cannot read the scenario file: {e}")))?;
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        Error::bad(
+            &file,
+            "<SCENARIO>",
+            format!("cannot read the scenario file: {e}; give the path of a scenario TOML file (examples in scenarios/)"),
+        )
+    })?;
     parse_str(&text, &file)
 }
 
@@ -181,7 +194,7 @@ pub fn parse_str(text: &str, source: &str) -> Result<Scene> {
         let msg = msg.trim_end().replace('\n', "\n  ");
         Error::bad(source, "TOML", msg)
     })?;
-    let mut scene = build(raw, source)?;
+    let mut scene = build(raw, source).map_err(|e| e.located(text))?;
     scene.text = text.to_string();
     Ok(scene)
 }
@@ -199,7 +212,10 @@ impl Ctx<'_> {
         if v.is_finite() && v > 0.0 {
             Ok(v)
         } else {
-            Err(self.err(key, format!("must be a finite number > 0, got {v}")))
+            Err(self.err(
+                key,
+                format!("must be a finite number > 0, got {v}; give a positive value"),
+            ))
         }
     }
 
@@ -207,7 +223,12 @@ impl Ctx<'_> {
         if v.iter().all(|x| x.is_finite()) {
             Ok(DVec3::from_array(v))
         } else {
-            Err(self.err(key, format!("must be three finite numbers, got {v:?}")))
+            Err(self.err(
+                key,
+                format!(
+                    "must be three finite numbers, got {v:?}; give [x, y, z] with finite entries"
+                ),
+            ))
         }
     }
 
@@ -217,7 +238,7 @@ impl Ctx<'_> {
         } else {
             Err(self.err(
                 key,
-                format!("Poisson's ratio must lie in (-1, 0.5), got {v}"),
+                format!("Poisson's ratio must lie in (-1, 0.5), got {v}; give e.g. 0.3"),
             ))
         }
     }
@@ -341,6 +362,16 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
     })
 }
 
+/// Euclidean norm without overflow for huge components (1e300).
+fn norm(v: DVec3) -> f64 {
+    let s = v.abs().max_element();
+    if s > 0.0 && s.is_finite() {
+        s * (v / s).length()
+    } else {
+        s
+    }
+}
+
 /// Exact axis-aligned bounds of a body.
 pub fn aabb(shape: &Shape, st: &BodyState) -> (DVec3, DVec3) {
     let half = match *shape {
@@ -388,7 +419,12 @@ fn build_body(
         ));
     }
 
-    // Material: a named table or inline values, not both.
+    // Material: a named table or inline values, not both. Messages name
+    // where the value was given.
+    let mkey = |k: &str| match &b.material {
+        Some(m) => format!("material.{m}.{k}"),
+        None => key(k),
+    };
     let (density, young, poisson) = match &b.material {
         Some(m) => {
             if b.density.is_some() || b.young.is_some() || b.poisson.is_some() {
@@ -413,23 +449,23 @@ fn build_body(
             b.poisson,
         ),
     };
-    let density = cx.positive(&key("density"), density)?;
+    let density = cx.positive(&mkey("density"), density)?;
     let (young, poisson) = if needs_contacts {
         let e = young.ok_or_else(|| {
             cx.err(
-                &key("young"),
+                &mkey("young"),
                 "bodies that can touch need Young's modulus `young` (Pa)",
             )
         })?;
         let nu = poisson.ok_or_else(|| {
             cx.err(
-                &key("poisson"),
+                &mkey("poisson"),
                 "bodies that can touch need Poisson's ratio `poisson`",
             )
         })?;
         (
-            cx.positive(&key("young"), e)?,
-            cx.poisson(&key("poisson"), nu)?,
+            cx.positive(&mkey("young"), e)?,
+            cx.poisson(&mkey("poisson"), nu)?,
         )
     } else {
         (young.unwrap_or(f64::NAN), poisson.unwrap_or(f64::NAN))
@@ -463,6 +499,24 @@ fn build_body(
     let x = cx.finite3(&key("position"), b.position)?;
     let v = cx.finite3(&key("velocity"), b.velocity)?;
     let omega_w = cx.finite3(&key("angular_velocity"), b.angular_velocity)?;
+    // Newtonian mechanics: a point of the body at or above the speed of light
+    // is not physical (and its energy may overflow, defeating the dt advice).
+    let rim = norm(omega_w) * shape.bounding_radius();
+    for (k, speed, what) in [
+        ("velocity", norm(v), "speed"),
+        (
+            "angular_velocity",
+            rim,
+            "rim speed |omega| x bounding radius",
+        ),
+    ] {
+        if speed >= SPEED_OF_LIGHT {
+            return Err(cx.err(
+                &key(k),
+                format!("{what} {speed:e} m/s is not physical (at or above the speed of light, 3e8 m/s; fibresim is Newtonian); give a speed far below it"),
+            ));
+        }
+    }
     let torque = match &b.torque {
         Some(t) => {
             let texts = [t[0].text(), t[1].text(), t[2].text()];

@@ -3,5 +3,7 @@
 
 pub mod build;
 pub mod file;
+pub mod locate;
 
 pub use build::{load, parse_str, ClosedForm, Guards, Scene, SimParams, Walls};
+pub use locate::locate;
