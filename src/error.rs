@@ -34,11 +34,8 @@ impl std::fmt::Display for Diagnosis {
         }
         if !self.value.is_finite() {
             // A non-numeric stop has no limit to compare with: say what is not
-            // finite. The state guard names its quantity "finite state".
-            let what = self
-                .quantity
-                .strip_prefix("finite ")
-                .unwrap_or(&self.quantity);
+            // finite.
+            let what = &self.quantity;
             let v = if self.value.is_nan() {
                 "NaN"
             } else if self.value > 0.0 {

@@ -238,7 +238,7 @@ fn diag(quantity: &str, value: f64, limit: f64) -> Diagnosis {
 #[test]
 fn diagnosis_reads_well_for_non_finite_values() {
     assert_eq!(
-        diag("finite state", f64::NAN, f64::MAX).to_string(),
+        diag("state", f64::NAN, f64::MAX).to_string(),
         "k at step 7 (t = 7e-3 s), body 1: state is NaN (must be finite)"
     );
     let mut energy = diag("energy", f64::INFINITY, f64::MAX);

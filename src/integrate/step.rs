@@ -238,7 +238,7 @@ impl<'s> World<'s> {
                 return Some(diag(
                     "non-finite state (position, velocity, orientation or spin is NaN or infinite)",
                     Some(i),
-                    "finite state",
+                    "state",
                     f64::NAN,
                     f64::MAX,
                 ));
@@ -251,7 +251,7 @@ impl<'s> World<'s> {
             return Some(diag(
                 "non-finite energy (the state has overflowed)",
                 None,
-                "energy (J)",
+                "energy",
                 energy,
                 f64::MAX,
             ));
@@ -278,7 +278,19 @@ impl<'s> World<'s> {
             ));
         }
         for (i, s) in self.states.iter().enumerate() {
-            let drift = (s.rot.q.length() - 1.0).abs();
+            let norm = s.rot.q.length();
+            if norm < 0.5 {
+                // A renormalising scheme whose update overflowed (Euler's
+                // `normalize` of an infinite quaternion gives 0).
+                return Some(diag(
+                    "degenerate orientation (the rotation update overflowed)",
+                    Some(i),
+                    "| ||q|| - 1 |",
+                    (norm - 1.0).abs(),
+                    QUAT_NORM_TOLERANCE,
+                ));
+            }
+            let drift = (norm - 1.0).abs();
             if drift > QUAT_NORM_TOLERANCE {
                 return Some(diag(
                     "quaternion norm drift",
