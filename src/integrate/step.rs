@@ -141,8 +141,7 @@ impl<'s> World<'s> {
             self.states.iter_mut().zip(bodies).zip(loads).enumerate()
         {
             verlet::kick_drift(&mut s.x, &mut s.v, f * body.inv_mass + g, dt);
-            let torque =
-                |t: f64, _q| prescribed.as_ref().map_or(DVec3::ZERO, |p| p.at(t)) + contact;
+            let torque = |t: f64| prescribed.as_ref().map_or(DVec3::ZERO, |p| p.at(t)) + contact;
             R::advance(&mut s.rot, &body.inertia, torque, t_n, dt)
                 .map_err(|fault| Box::new(fault_diagnosis(fault, i, self.step, t_n)))?;
         }
@@ -167,7 +166,7 @@ impl<'s> World<'s> {
             verlet::kick(&mut s.v, f * body.inv_mass + g, dt);
             if R::INFO.kick_drift_kick {
                 let torque =
-                    |t: f64, _q| prescribed.as_ref().map_or(DVec3::ZERO, |p| p.at(t)) + contact;
+                    |t: f64| prescribed.as_ref().map_or(DVec3::ZERO, |p| p.at(t)) + contact;
                 R::finish(&mut s.rot, &body.inertia, torque, t_next, dt);
             }
             ledger.add_body(body, s, g);

@@ -9,7 +9,7 @@
 use super::{Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};
 use crate::math::{exp_map, to_world};
-use glam::{DQuat, DVec3};
+use glam::DVec3;
 
 pub struct Direct;
 
@@ -24,7 +24,7 @@ impl Rotator for Direct {
     };
 
     #[inline]
-    fn advance<T: Fn(f64, DQuat) -> DVec3>(
+    fn advance<T: Fn(f64) -> DVec3>(
         rot: &mut RotState,
         inertia: &Inertia,
         torque: T,
@@ -32,7 +32,7 @@ impl Rotator for Direct {
         dt: f64,
     ) -> Result<(), RotatorFault> {
         let q = rot.q;
-        let alpha = inertia.angular_acceleration_world(q, rot.omega_b, torque(t_n, q));
+        let alpha = inertia.angular_acceleration_world(q, rot.omega_b, torque(t_n));
         rot.q = exp_map(to_world(q, rot.omega_b) * dt) * q;
         rot.omega_b += dt * alpha;
         Ok(())

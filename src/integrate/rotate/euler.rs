@@ -9,7 +9,7 @@
 use super::{Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};
 use crate::math::{pure, to_world};
-use glam::{DQuat, DVec3};
+use glam::DVec3;
 
 pub struct Euler;
 
@@ -24,7 +24,7 @@ impl Rotator for Euler {
     };
 
     #[inline]
-    fn advance<T: Fn(f64, DQuat) -> DVec3>(
+    fn advance<T: Fn(f64) -> DVec3>(
         rot: &mut RotState,
         inertia: &Inertia,
         torque: T,
@@ -32,7 +32,7 @@ impl Rotator for Euler {
         dt: f64,
     ) -> Result<(), RotatorFault> {
         let q = rot.q;
-        let alpha = inertia.angular_acceleration_world(q, rot.omega_b, torque(t_n, q));
+        let alpha = inertia.angular_acceleration_world(q, rot.omega_b, torque(t_n));
         let omega_w = to_world(q, rot.omega_b);
         // Eq. 31, then Eq. 32 (the scheme's own renormalisation).
         rot.q = (q + pure(omega_w) * q * (0.5 * dt)).normalize();

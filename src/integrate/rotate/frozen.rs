@@ -6,7 +6,7 @@
 
 use super::{Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};
-use glam::{DQuat, DVec3};
+use glam::DVec3;
 
 pub struct Frozen;
 
@@ -21,7 +21,7 @@ impl Rotator for Frozen {
     };
 
     #[inline]
-    fn advance<T: Fn(f64, DQuat) -> DVec3>(
+    fn advance<T: Fn(f64) -> DVec3>(
         _rot: &mut RotState,
         _inertia: &Inertia,
         _torque: T,

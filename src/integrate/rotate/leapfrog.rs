@@ -35,7 +35,7 @@ impl Rotator for Leapfrog {
     };
 
     #[inline]
-    fn advance<T: Fn(f64, DQuat) -> DVec3>(
+    fn advance<T: Fn(f64) -> DVec3>(
         rot: &mut RotState,
         inertia: &Inertia,
         torque: T,
@@ -43,7 +43,7 @@ impl Rotator for Leapfrog {
         dt: f64,
     ) -> Result<(), RotatorFault> {
         let q = rot.q;
-        let l_half = to_world(q, inertia.principal * rot.omega_b) + (0.5 * dt) * torque(t_n, q);
+        let l_half = to_world(q, inertia.principal * rot.omega_b) + (0.5 * dt) * torque(t_n);
         let omega_half = to_world(q, inertia.inverse * to_body(q, l_half));
         let b = (0.25 * dt) * omega_half;
         let beta = DQuat::from_xyzw(b.x, b.y, b.z, 1.0);
@@ -57,7 +57,7 @@ impl Rotator for Leapfrog {
     }
 
     #[inline]
-    fn finish<T: Fn(f64, DQuat) -> DVec3>(
+    fn finish<T: Fn(f64) -> DVec3>(
         rot: &mut RotState,
         inertia: &Inertia,
         torque: T,
@@ -65,7 +65,7 @@ impl Rotator for Leapfrog {
         dt: f64,
     ) {
         let q = rot.q;
-        let tau_b = to_body(q, torque(t_next, q));
+        let tau_b = to_body(q, torque(t_next));
         rot.omega_b += (0.5 * dt) * inertia.inverse * tau_b;
     }
 }

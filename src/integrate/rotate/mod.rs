@@ -8,10 +8,12 @@
 //! - [`Rotator::finish`] runs after forces at the new positions: the closing
 //!   half-kick (a no-op for one-stage schemes).
 //!
-//! Torque is asked for through a closure `torque(t, q) -> τ_world`. A prescribed
-//! torque evaluates its function of time exactly there; a contact torque answers
-//! with the latest computed world torque, whatever `(t, q)` is asked. Each
-//! rotator states this contract as data in [`RotatorInfo`].
+//! Torque is asked for through a closure `torque(t) -> τ_world`: a prescribed
+//! torque evaluates its function of time exactly at `t`; a contact torque
+//! answers with the latest computed world torque, whatever `t` is asked. The
+//! orientation half of a rotator's torque contract is the frame it rotates
+//! that world torque into (`q_n`, a predicted `q'`, a stage orientation).
+//! Each rotator states its contract as data in [`RotatorInfo`].
 //!
 //! Dispatch on [`RotatorKind`] happens once per run (see `crate::run`), so each
 //! scheme compiles to its own tight loop.
@@ -33,7 +35,7 @@ pub use rk4::Rk4;
 pub use scalar::Scalar;
 
 use crate::body::{Inertia, RotState};
-use glam::{DQuat, DVec3};
+use glam::DVec3;
 
 /// Why a rotator could not take a step.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -66,7 +68,7 @@ pub trait Rotator {
     const INFO: RotatorInfo;
 
     /// Advance `(q, ω_b)` from `t_n` towards `t_n + δt`, before forces are computed.
-    fn advance<T: Fn(f64, DQuat) -> DVec3>(
+    fn advance<T: Fn(f64) -> DVec3>(
         rot: &mut RotState,
         inertia: &Inertia,
         torque: T,
@@ -76,7 +78,7 @@ pub trait Rotator {
 
     /// Close the step at `t_next = t_n + δt`, after forces at the new positions.
     #[inline]
-    fn finish<T: Fn(f64, DQuat) -> DVec3>(
+    fn finish<T: Fn(f64) -> DVec3>(
         _rot: &mut RotState,
         _inertia: &Inertia,
         _torque: T,

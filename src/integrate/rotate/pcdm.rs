@@ -4,10 +4,10 @@
 //! 1. `α_n = α(ω_b,n, q_n* τ_n q_n)` (Eq. 56);
 //!    `ω_b,n+¼ = ω_b,n + (δt/4) α_n`, `ω_b,n+½ = ω_b,n + (δt/2) α_n` (Eq. 57);
 //! 2. predictor `q'_{n+½} = exp(ω_{n+¼} δt/2) q_n`, `ω_{n+¼} = q_n ω_b,n+¼ q_n*`
-//!    (Eq. 58–59), evaluated as the equal `q_n exp(ω_b,n+¼ δt/2)`;
+//!    (Eq. 58–59), evaluated as the equal `q_n e`, `e = exp(ω_b,n+¼ δt/2)`;
 //! 3. `α_{n+½} = α(ω_b,n+½, q'* τ_{n+½} q')` at the predicted orientation;
 //! 4. corrector `q_{n+1} = exp(ω_{n+½} δt) q_n`, `ω_{n+½} = q' ω_b,n+½ q'*`
-//!    (Eq. 60–61);
+//!    (Eq. 60–61), evaluated as the equal `q_n exp(e ω_b,n+½ e* δt)`;
 //! 5. `ω_b,n+1 = ω_b,n + δt α_{n+½}` (Eq. 62).
 //!
 //! The paper does not say at which *time* the torque of step 3 is taken.
@@ -19,8 +19,8 @@
 
 use super::{Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};
-use crate::math::{exp_map, to_world};
-use glam::{DQuat, DVec3};
+use crate::math::{exp_map, to_body, to_world};
+use glam::DVec3;
 
 /// PCDM with the mid-step torque at `t_n + δt/2`.
 pub type Pcdm = PcdmScheme<true>;
@@ -51,7 +51,7 @@ impl<const MID: bool> Rotator for PcdmScheme<MID> {
     };
 
     #[inline]
-    fn advance<T: Fn(f64, DQuat) -> DVec3>(
+    fn advance<T: Fn(f64) -> DVec3>(
         rot: &mut RotState,
         inertia: &Inertia,
         torque: T,
@@ -60,17 +60,25 @@ impl<const MID: bool> Rotator for PcdmScheme<MID> {
     ) -> Result<(), RotatorFault> {
         let q = rot.q;
         let w = rot.omega_b;
-        let alpha_n = inertia.angular_acceleration_world(q, w, torque(t_n, q));
+        let alpha_n = inertia.angular_acceleration_world(q, w, torque(t_n));
         let w_quarter = w + (0.25 * dt) * alpha_n;
         let w_half = w + (0.5 * dt) * alpha_n;
-        // Eq. 58–59, `exp(ω_{n+¼} δt/2) q_n` with `ω_{n+¼} = q_n ω_b q_n*`, is
-        // the same quaternion as `q_n exp(ω_b,n+¼ δt/2)` (exp(q v q*) = q exp(v) q*),
-        // which needs no rotation of ω into the world frame.
-        let q_pred = q * exp_map(w_quarter * (0.5 * dt));
+        // Eq. 58–59: `q' = exp(ω_{n+¼} δt/2) q_n` with `ω_{n+¼} = q_n ω_b,n+¼ q_n*`
+        // is `q_n e`, `e = exp(ω_b,n+¼ δt/2)`, since exp(q v q*) = q exp(v) q*.
+        let e = exp_map(w_quarter * (0.5 * dt));
         let t_half = if MID { t_n + 0.5 * dt } else { t_n };
-        let alpha_half = inertia.angular_acceleration_world(q_pred, w_half, torque(t_half, q_pred));
-        // Eq. 60–61.
-        rot.q = exp_map(to_world(q_pred, w_half) * dt) * q;
+        let tau_half = torque(t_half);
+        // The torque in the predicted frame q'; q' itself is formed only when
+        // there is a torque to rotate (most free DEM bodies have none).
+        let tau_half_b = if tau_half == DVec3::ZERO {
+            DVec3::ZERO
+        } else {
+            to_body(q * e, tau_half)
+        };
+        let alpha_half = inertia.angular_acceleration(w_half, tau_half_b);
+        // Eq. 60–61: `exp(ω_{n+½} δt) q_n` with `ω_{n+½} = q' ω_b,n+½ q'*` is
+        // `q_n exp(e ω_b,n+½ e* δt)` by the same identity.
+        rot.q = q * exp_map(to_world(e, w_half) * dt);
         rot.omega_b = w + dt * alpha_half;
         Ok(())
     }

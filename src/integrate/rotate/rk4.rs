@@ -16,7 +16,7 @@ use glam::{DQuat, DVec3};
 pub struct Rk4;
 
 #[inline]
-fn rhs<T: Fn(f64, DQuat) -> DVec3>(
+fn rhs<T: Fn(f64) -> DVec3>(
     inertia: &Inertia,
     torque: &T,
     t: f64,
@@ -25,7 +25,7 @@ fn rhs<T: Fn(f64, DQuat) -> DVec3>(
 ) -> (DQuat, DVec3) {
     let qn = q.normalize();
     let dq = q * pure(w) * 0.5;
-    let dw = inertia.angular_acceleration_world(qn, w, torque(t, qn));
+    let dw = inertia.angular_acceleration_world(qn, w, torque(t));
     (dq, dw)
 }
 
@@ -40,7 +40,7 @@ impl Rotator for Rk4 {
     };
 
     #[inline]
-    fn advance<T: Fn(f64, DQuat) -> DVec3>(
+    fn advance<T: Fn(f64) -> DVec3>(
         rot: &mut RotState,
         inertia: &Inertia,
         torque: T,

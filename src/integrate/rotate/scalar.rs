@@ -11,7 +11,7 @@
 use super::{Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};
 use crate::math::{pure, to_world};
-use glam::{DQuat, DVec3};
+use glam::DVec3;
 
 pub struct Scalar;
 
@@ -29,7 +29,7 @@ impl Rotator for Scalar {
     };
 
     #[inline]
-    fn advance<T: Fn(f64, DQuat) -> DVec3>(
+    fn advance<T: Fn(f64) -> DVec3>(
         rot: &mut RotState,
         inertia: &Inertia,
         torque: T,
@@ -42,7 +42,7 @@ impl Rotator for Scalar {
         if n >= SCALAR_HALF_ANGLE_LIMIT {
             return Err(RotatorFault::ScalarSingularity { half_angle: n });
         }
-        let alpha = inertia.angular_acceleration_world(q, rot.omega_b, torque(t_n, q));
+        let alpha = inertia.angular_acceleration_world(q, rot.omega_b, torque(t_n));
         // Eq. 45; tan(n)/n → 1 as n → 0.
         let f = if n > 0.0 { n.tan() / n } else { 1.0 };
         rot.q = (q + dq * f) * n.cos();
