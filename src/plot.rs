@@ -56,6 +56,10 @@ pub enum Style {
     Dashed,
     /// Unconnected circular markers.
     Points,
+    /// Published values overlaid on our data (the paper's Table 2): large
+    /// filled black diamonds with a white rim, taking no palette colour, so
+    /// they stand out however many series the chart has.
+    Published,
     /// Solid line with a hollow marker at every point, the shape chosen by
     /// the series' colour slot (circle, square, triangle, diamond, ×, +,
     /// inverted triangle): series that coincide (e.g. scalar and direct on
@@ -85,6 +89,9 @@ fn dash_segments(len: i32, dash: (u32, u32)) -> Vec<(i32, i32)> {
     }
     out
 }
+
+/// Outline of a [`Style::Published`] marker, pixels around the point.
+const PUBLISHED_DIAMOND: [(i32, i32); 5] = [(0, -9), (8, 0), (0, 9), (-8, 0), (0, -9)];
 
 /// Number of distinct marker shapes of [`Style::LineMarkers`].
 pub const MARKER_SHAPES: usize = 7;
@@ -759,7 +766,7 @@ fn draw_chart<DB: DrawingBackend>(
             runs: runs
                 .iter()
                 .map(|r| match s.style {
-                    Style::Points => decimate_points(r, &xa, &ya),
+                    Style::Points | Style::Published => decimate_points(r, &xa, &ya),
                     Style::Line | Style::LineMarkers => decimate_line(r, &xa),
                     Style::Dashed | Style::Guide => {
                         simplify_collinear(&decimate_line(r, &xa), &xa, &ya)
@@ -811,6 +818,8 @@ fn draw_chart<DB: DrawingBackend>(
     for (s, p) in chart.series.iter().zip(&prepared) {
         let color = if s.style == Style::Guide {
             RGBColor(120, 120, 120)
+        } else if s.style == Style::Published {
+            BLACK
         } else {
             slot += 1;
             PALETTE[(slot - 1) % PALETTE.len()]
@@ -826,6 +835,11 @@ fn draw_chart<DB: DrawingBackend>(
         for run in &p.runs {
             match s.style {
                 Style::Points => ctx.draw_series(run.iter().map(|&pt| Circle::new(pt, 3, fill))),
+                Style::Published => ctx.draw_series(run.iter().map(|&pt| {
+                    EmptyElement::at(pt)
+                        + Polygon::new(PUBLISHED_DIAMOND.to_vec(), fill)
+                        + PathElement::new(PUBLISHED_DIAMOND.to_vec(), WHITE.stroke_width(2))
+                })),
                 _ if run.len() == 1 => {
                     ctx.draw_series(std::iter::once(Circle::new(run[0], 2, fill)))
                 }
@@ -895,6 +909,13 @@ fn draw_chart<DB: DrawingBackend>(
                 };
                 anno.legend(move |(x, y)| {
                     EmptyElement::at((x, y)) + seg(0) + seg(1) + seg(2) + seg(3)
+                });
+            }
+            Style::Published => {
+                anno.legend(move |(x, y)| {
+                    EmptyElement::at((x + 12, y))
+                        + Polygon::new(PUBLISHED_DIAMOND.to_vec(), fill)
+                        + PathElement::new(PUBLISHED_DIAMOND.to_vec(), WHITE.stroke_width(2))
                 });
             }
             Style::Points => {

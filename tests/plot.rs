@@ -391,9 +391,30 @@ fn line_markers_draw_one_shape_per_point() {
     // plus 2 strokes of the legend sample.
     let closed = svg
         .split("<polyline")
+        .skip(1)
+        .map(|e| e.split('>').next().unwrap_or(""))
         .filter(|e| e.contains("stroke=\"#0072B2\"") && e.matches(',').count() == 17)
         .count();
     assert_eq!(closed, 5 + 2, "circle markers");
+    // Published values: black filled diamonds on top, one per point + legend,
+    // taking no palette slot (the blue series keeps its colour).
+    chart.series.insert(
+        0,
+        Series::new("paper", vec![1e-2, 1e-3], vec![0.1, 0.01], Style::Published),
+    );
+    render(&chart, &p).unwrap();
+    let svg2 = std::fs::read_to_string(&p).unwrap();
+    let diamonds = svg2
+        .split("<polygon")
+        .skip(1)
+        .map(|e| e.split('>').next().unwrap_or(""))
+        .filter(|e| e.contains("fill=\"#000000\"") && e.matches(',').count() == 5)
+        .count();
+    assert_eq!(diamonds, 2 + 1, "published diamonds");
+    assert_eq!(
+        svg2.matches("#0072B2").count(),
+        svg.matches("#0072B2").count()
+    );
     let png = out("markers.png");
     render(&chart, &png).unwrap();
     assert_eq!(decode_png(&png), (1000, 700));
