@@ -501,6 +501,18 @@ fn plot_axis_goes_log_when_data_span_decades() {
     assert!(!wants_log(&[0.0, f64::NAN, 1.0]), "one positive value");
 }
 
+/// converge's default rotator set (for `src/cli.rs`) is every scheme, so the
+/// work-precision figure shows each one (issue 4).
+#[test]
+fn converge_default_rotators_are_all_schemes() {
+    use fibresim::integrate::rotate::RotatorKind;
+    use fibresim::study::{converge::DEFAULT_ROTATORS, parse_rotators};
+    assert_eq!(
+        parse_rotators(Some(DEFAULT_ROTATORS)).unwrap(),
+        RotatorKind::ALL.to_vec()
+    );
+}
+
 #[test]
 fn bad_rotator_list_is_bad_input() {
     let o = fibresim(

@@ -35,6 +35,11 @@ use rayon::prelude::*;
 use std::path::PathBuf;
 use std::time::Instant;
 
+/// `--rotators` default of `fibresim converge`: every scheme, so the
+/// work–precision figure shows each one (issue 4). For `src/cli.rs`:
+/// `#[arg(long, default_value = crate::study::converge::DEFAULT_ROTATORS)]`.
+pub const DEFAULT_ROTATORS: &str = "all";
+
 /// Options of a convergence study.
 #[derive(Debug, Clone)]
 pub struct ConvergeOptions {
@@ -390,9 +395,9 @@ pub fn converge(scene: &Scene, opts: &ConvergeOptions) -> Result<ConvergeReport>
         .into_iter()
         .map(|p| p.expect("every job ran"))
         .collect();
-    // Timing pass, sequential: with the errors run in parallel, two runs
-    // share the cores and each is ~1.9x slower (euler on test case 4: 806
-    // against 426 ns per body-step).
+    // Timing pass, sequential: two runs sharing the 2 cores are each
+    // 1.3-1.9x slower (euler on test case 4: 105-160 ns per body-step alone,
+    // 200 ns two at once), which would bend the work-precision figure.
     for p in &mut points {
         let s = with_params(scene, p.rotator, p.dt, t_end)?;
         (p.wall_s, p.timing_runs) = time_run(&s);
