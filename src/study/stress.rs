@@ -130,11 +130,11 @@ impl Verdict {
     }
 
     /// How the run ended, in a few words (tables).
-    pub fn short(&self) -> String {
+    pub fn short(&self, o: &StressOptions) -> String {
         match self {
             Verdict::Stable => "stable".into(),
-            Verdict::Energy => "finished, energy/L error > tol".into(),
-            Verdict::Outcome => "finished, final state off rk4".into(),
+            Verdict::Energy => format!("finished, energy/L error > {} %", o.energy_tol_pct),
+            Verdict::Outcome => format!("finished, final state off rk4 > {} %", o.outcome_tol_pct),
             Verdict::Guard(d) => format!(
                 "stopped by guard `{}` at step {}",
                 short_kind(&d.kind),
@@ -635,7 +635,7 @@ fn summarise(cases: &[StressCase], runs: &[StressRun], opts: &StressOptions) -> 
                 largest_stable_factor: largest,
                 stable_above_failure: stable_above,
                 err_at_recommended_pct: at_rec.map_or(f64::NAN, |r| err(r)),
-                at_recommended: at_rec.map_or("not run".into(), |r| r.verdict.short()),
+                at_recommended: at_rec.map_or("not run".into(), |r| r.verdict.short(opts)),
                 detected_by: detected_by(&sweep, scene_run, opts),
                 err_at_scene_dt_pct: scene_run.map_or(f64::NAN, err),
                 scene_dt: c.scene.sim.dt,
