@@ -55,7 +55,8 @@ fi
 "$fibresim" stress --out out/stress -q
 cp out/stress/stability_map.png "$fig/stability_map.png"
 splice docs/stress.md stress_full out/stress/stress_full.md
-echo "README stress table: out/stress/stress_table.md"
+splice docs/stress.md stress_table out/stress/stress_table.md
+echo "README stress table: out/stress/stress_table.md (also in docs/stress.md)"
 
 # --- Test case 3 (Table 2), closed form: ~0.3 s and ~1.5 s ------------------
 "$fibresim" compare scenarios/torque_sphere.toml --rotators all
