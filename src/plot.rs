@@ -56,9 +56,68 @@ pub enum Style {
     Dashed,
     /// Unconnected circular markers.
     Points,
-    /// Dashed grey line that takes no palette colour (slope guides), so the
-    /// data keep their colours however many guides a chart has.
+    /// Published values overlaid on our data (the paper's Table 2): large
+    /// filled black diamonds with a white rim, taking no palette colour, so
+    /// they stand out however many series the chart has.
+    Published,
+    /// Solid line with a hollow marker at every point, the shape chosen by
+    /// the series' colour slot (circle, square, triangle, diamond, ×, +,
+    /// inverted triangle): series that coincide (e.g. scalar and direct on
+    /// a convergence plot) stay visible as nested shapes. For short series.
+    LineMarkers,
+    /// Grey line that takes no palette colour (slope guides), so the data
+    /// keep their colours however many guides a chart has. The k-th guide of
+    /// a chart gets the k-th pattern of [`GUIDE_DASHES`] (dashes, dots,
+    /// long dashes), in the plot and in the legend, so guides are told apart.
     Guide,
+}
+
+/// Dash length and gap (pixels) of the k-th slope guide of a chart, cycled.
+pub const GUIDE_DASHES: [(u32, u32); 3] = [(10, 6), (2, 5), (22, 6)];
+/// Dash length and gap of [`Style::Dashed`].
+const DASH: (u32, u32) = (10, 6);
+
+/// Horizontal dash segments `[start, end)` covering `0..len` px with `dash`.
+fn dash_segments(len: i32, dash: (u32, u32)) -> Vec<(i32, i32)> {
+    debug_assert!(len > 0);
+    let (on, off) = (dash.0.max(1) as i32, dash.1 as i32);
+    let mut out = vec![];
+    let mut x = 0;
+    while x < len {
+        out.push((x, (x + on).min(len)));
+        x += on + off;
+    }
+    out
+}
+
+/// Outline of a [`Style::Published`] marker, pixels around the point.
+const PUBLISHED_DIAMOND: [(i32, i32); 5] = [(0, -9), (8, 0), (0, 9), (-8, 0), (0, -9)];
+
+/// Number of distinct marker shapes of [`Style::LineMarkers`].
+pub const MARKER_SHAPES: usize = 7;
+
+/// The outline of marker `shape` around the origin, in pixels (closed
+/// paths; the × and + are two strokes each, returned as two paths).
+fn marker_paths(shape: usize) -> Vec<Vec<(i32, i32)>> {
+    const R: i32 = 6;
+    match shape % MARKER_SHAPES {
+        // A 16-gon reads as a circle at this size and keeps one code path.
+        0 => vec![(0..=16)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / 16.0;
+                (
+                    (5.5 * a.cos()).round() as i32,
+                    (5.5 * a.sin()).round() as i32,
+                )
+            })
+            .collect()],
+        1 => vec![vec![(-5, -5), (5, -5), (5, 5), (-5, 5), (-5, -5)]],
+        2 => vec![vec![(0, -R), (R, 4), (-R, 4), (0, -R)]],
+        3 => vec![vec![(0, -R - 1), (R, 0), (0, R + 1), (-R, 0), (0, -R - 1)]],
+        4 => vec![vec![(-5, -5), (5, 5)], vec![(-5, 5), (5, -5)]],
+        5 => vec![vec![(-R, 0), (R, 0)], vec![(0, -R), (0, R)]],
+        _ => vec![vec![(0, R), (R, -4), (-R, -4), (0, R)]],
+    }
 }
 
 /// Where the legend goes. `Auto` picks the plot corner that covers the least data.
@@ -707,8 +766,8 @@ fn draw_chart<DB: DrawingBackend>(
             runs: runs
                 .iter()
                 .map(|r| match s.style {
-                    Style::Points => decimate_points(r, &xa, &ya),
-                    Style::Line => decimate_line(r, &xa),
+                    Style::Points | Style::Published => decimate_points(r, &xa, &ya),
+                    Style::Line | Style::LineMarkers => decimate_line(r, &xa),
                     Style::Dashed | Style::Guide => {
                         simplify_collinear(&decimate_line(r, &xa), &xa, &ya)
                     }
@@ -755,25 +814,52 @@ fn draw_chart<DB: DrawingBackend>(
 
     let mut any_label = false;
     let mut slot = 0;
+    let mut guide = 0;
     for (s, p) in chart.series.iter().zip(&prepared) {
         let color = if s.style == Style::Guide {
             RGBColor(120, 120, 120)
+        } else if s.style == Style::Published {
+            BLACK
         } else {
             slot += 1;
             PALETTE[(slot - 1) % PALETTE.len()]
+        };
+        let dash = if s.style == Style::Guide {
+            guide += 1;
+            GUIDE_DASHES[(guide - 1) % GUIDE_DASHES.len()]
+        } else {
+            DASH
         };
         let line = color.stroke_width(2);
         let fill = color.filled();
         for run in &p.runs {
             match s.style {
                 Style::Points => ctx.draw_series(run.iter().map(|&pt| Circle::new(pt, 3, fill))),
+                Style::Published => ctx.draw_series(run.iter().map(|&pt| {
+                    EmptyElement::at(pt)
+                        + Polygon::new(PUBLISHED_DIAMOND.to_vec(), fill)
+                        + PathElement::new(PUBLISHED_DIAMOND.to_vec(), WHITE.stroke_width(2))
+                })),
                 _ if run.len() == 1 => {
                     ctx.draw_series(std::iter::once(Circle::new(run[0], 2, fill)))
                 }
                 Style::Line => ctx.draw_series(LineSeries::new(run.iter().copied(), line)),
-                Style::Dashed | Style::Guide => {
-                    ctx.draw_series(DashedLineSeries::new(run.iter().copied(), 10, 6, line))
+                Style::LineMarkers => {
+                    ctx.draw_series(LineSeries::new(run.iter().copied(), line))
+                        .map_err(err)?;
+                    let paths = marker_paths(slot - 1);
+                    ctx.draw_series(run.iter().flat_map(|&pt| {
+                        paths.iter().map(move |path| {
+                            EmptyElement::at(pt) + PathElement::new(path.clone(), line)
+                        })
+                    }))
                 }
+                Style::Dashed | Style::Guide => ctx.draw_series(DashedLineSeries::new(
+                    run.iter().copied(),
+                    dash.0,
+                    dash.1,
+                    line,
+                )),
             }
             .map_err(err)?;
         }
@@ -796,11 +882,40 @@ fn draw_chart<DB: DrawingBackend>(
             Style::Line => {
                 anno.legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], line));
             }
-            Style::Dashed | Style::Guide => {
+            Style::LineMarkers => {
+                // Up to two strokes per shape (× and +); a closed shape repeats.
+                let paths = marker_paths(slot - 1);
+                let stroke = move |i: usize| {
+                    let p: Vec<(i32, i32)> = paths[i.min(paths.len() - 1)]
+                        .iter()
+                        .map(|&(a, b)| (a + 12, b))
+                        .collect();
+                    PathElement::new(p, line)
+                };
                 anno.legend(move |(x, y)| {
                     EmptyElement::at((x, y))
-                        + PathElement::new(vec![(0, 0), (9, 0)], line)
-                        + PathElement::new(vec![(15, 0), (24, 0)], line)
+                        + PathElement::new(vec![(0, 0), (24, 0)], line)
+                        + stroke(0)
+                        + stroke(1)
+                });
+            }
+            Style::Dashed | Style::Guide => {
+                // The line's own dash pattern over the 24 px sample: at most
+                // 4 dashes (the shortest pattern), padded by repeating the last.
+                let segs = dash_segments(24, dash);
+                let seg = move |i: usize| {
+                    let (a, b) = segs[i.min(segs.len() - 1)];
+                    PathElement::new(vec![(a, 0), (b, 0)], line)
+                };
+                anno.legend(move |(x, y)| {
+                    EmptyElement::at((x, y)) + seg(0) + seg(1) + seg(2) + seg(3)
+                });
+            }
+            Style::Published => {
+                anno.legend(move |(x, y)| {
+                    EmptyElement::at((x + 12, y))
+                        + Polygon::new(PUBLISHED_DIAMOND.to_vec(), fill)
+                        + PathElement::new(PUBLISHED_DIAMOND.to_vec(), WHITE.stroke_width(2))
                 });
             }
             Style::Points => {

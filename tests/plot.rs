@@ -325,3 +325,97 @@ fn large_series_render() {
         assert!(size > 1000);
     }
 }
+
+/// Lengths (px) of the two-point strokes of colour `stroke` in an SVG.
+fn stroke_lengths(svg: &str, stroke: &str) -> Vec<f64> {
+    let key = format!("stroke=\"{stroke}\"");
+    svg.split("<polyline")
+        .skip(1)
+        .filter(|e| e.contains(&key))
+        .filter_map(|e| {
+            let pts = e.split("points=\"").nth(1)?.split('"').next()?;
+            let p: Vec<(f64, f64)> = pts
+                .split_whitespace()
+                .filter_map(|xy| {
+                    let (x, y) = xy.split_once(',')?;
+                    Some((x.parse().ok()?, y.parse().ok()?))
+                })
+                .collect();
+            (p.len() == 2).then(|| (p[1].0 - p[0].0).hypot(p[1].1 - p[0].1))
+        })
+        .collect()
+}
+
+/// Slope guides are all grey; the second and third get their own dash
+/// patterns (dots, long dashes), in the plot and in the legend.
+#[test]
+fn slope_guides_have_distinct_dash_patterns() {
+    use fibresim::plot::GUIDE_DASHES;
+    let mut chart = convergence_chart();
+    for s in chart.series.iter_mut().filter(|s| s.style == Style::Dashed) {
+        s.style = Style::Guide;
+    }
+    let p = out("guides.svg");
+    render(&chart, &p).unwrap();
+    let svg = std::fs::read_to_string(&p).unwrap();
+    let len = stroke_lengths(&svg, "#787878");
+    let near = |d: u32| len.iter().filter(|&&l| (l - d as f64).abs() < 1.5).count();
+    // Each pattern's dash length occurs along its line (tens of dashes),
+    // not only as the odd clipped stub at a line's end.
+    for (dash, _) in GUIDE_DASHES {
+        assert!(near(dash) >= 5, "dash {dash}: {} of {len:?}", near(dash));
+    }
+}
+
+/// Line-with-markers series: one marker outline per point, each slot its
+/// own shape, and the legend shows the shape too.
+#[test]
+fn line_markers_draw_one_shape_per_point() {
+    let x: Vec<f64> = (0..5).map(|i| 10f64.powi(-i)).collect();
+    let mut chart = Chart::new("markers", "dt (s)", "err (rad)");
+    chart.log_x = true;
+    chart.log_y = true;
+    for k in 0..fibresim::plot::MARKER_SHAPES {
+        let y = x.iter().map(|v| v * (k + 1) as f64).collect();
+        chart.series.push(Series::new(
+            format!("s{k}"),
+            x.clone(),
+            y,
+            Style::LineMarkers,
+        ));
+    }
+    let p = out("markers.svg");
+    render(&chart, &p).unwrap();
+    let svg = std::fs::read_to_string(&p).unwrap();
+    // The first slot (blue circles, drawn as closed 17-point paths): 5 points
+    // plus 2 strokes of the legend sample.
+    let closed = svg
+        .split("<polyline")
+        .skip(1)
+        .map(|e| e.split('>').next().unwrap_or(""))
+        .filter(|e| e.contains("stroke=\"#0072B2\"") && e.matches(',').count() == 17)
+        .count();
+    assert_eq!(closed, 5 + 2, "circle markers");
+    // Published values: black filled diamonds on top, one per point + legend,
+    // taking no palette slot (the blue series keeps its colour).
+    chart.series.insert(
+        0,
+        Series::new("paper", vec![1e-2, 1e-3], vec![0.1, 0.01], Style::Published),
+    );
+    render(&chart, &p).unwrap();
+    let svg2 = std::fs::read_to_string(&p).unwrap();
+    let diamonds = svg2
+        .split("<polygon")
+        .skip(1)
+        .map(|e| e.split('>').next().unwrap_or(""))
+        .filter(|e| e.contains("fill=\"#000000\"") && e.matches(',').count() == 5)
+        .count();
+    assert_eq!(diamonds, 2 + 1, "published diamonds");
+    assert_eq!(
+        svg2.matches("#0072B2").count(),
+        svg.matches("#0072B2").count()
+    );
+    let png = out("markers.png");
+    render(&chart, &png).unwrap();
+    assert_eq!(decode_png(&png), (1000, 700));
+}

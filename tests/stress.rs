@@ -42,7 +42,7 @@ fn stress_cli_subset_table_and_map() {
         assert_eq!(col(&h, r, "case"), "coaxial");
         let f: f64 = col(&h, r, "largest_stable_factor").parse().unwrap();
         assert!(f >= 1.0, "{r:?}");
-        let e: f64 = col(&h, r, "energy_error_at_recommended_pct")
+        let e: f64 = col(&h, r, "energy_error_full_at_recommended_pct")
             .parse()
             .unwrap();
         assert!(e.is_finite() && e <= 1.0, "{r:?}");
@@ -156,7 +156,65 @@ fn stress_output_does_not_depend_on_threads() {
             .output()
             .unwrap();
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        tables.push(std::fs::read(out.join("stress_runs.csv")).unwrap());
+        for f in [
+            "stress_runs.csv",
+            "stress.csv",
+            "stress_table.md",
+            "stress_full.md",
+        ] {
+            tables.push(std::fs::read(out.join(f)).unwrap());
+        }
     }
-    assert_eq!(tables[0], tables[1]);
+    assert_eq!(tables[..4], tables[4..]);
+}
+
+/// A guard-stopped run's error includes the step that tripped the guard:
+/// for the energy guard it is the guard's own value (steel_drop with pcdm
+/// at 64 x δt_rec: 8646 % at the stop, where the steps before it showed
+/// 1.5e-13 %). The tables say how the run at δt_rec ended.
+#[test]
+fn stopped_runs_report_the_error_at_the_stop() {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/stress/steel_drop.toml");
+    let case = StressCase::new("steel_drop", fibresim::scenario::load(&p).unwrap()).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let opts = StressOptions {
+        rotators: vec![RotatorKind::Pcdm],
+        factors: vec![1.0, 64.0],
+        energy_tol_pct: 1.0,
+        outcome_tol_pct: 5.0,
+        out_dir: dir.path().to_path_buf(),
+        progress: false,
+    };
+    let r = stress(vec![case], &opts).unwrap();
+    let mut stops = 0;
+    for run in r.runs.iter().filter(|x| !x.scene_dt) {
+        let Verdict::Guard(d) = &run.verdict else {
+            panic!("pcdm at x{} on steel_drop is stopped: {run:?}", run.factor)
+        };
+        assert_eq!(d.quantity, "energy error %", "{d}");
+        assert_eq!(run.energy_err_at_stop_pct, d.value, "{d}");
+        assert_eq!(run.energy_err_pct, d.value, "{d}");
+        assert!(run.energy_err_pct > d.limit);
+        stops += 1;
+    }
+    assert_eq!(stops, 2);
+    let s = &r.summary[0];
+    assert!(s.err_at_recommended_pct > 10.0, "{s:?}");
+    assert!(s.at_recommended.starts_with("stopped by guard"), "{s:?}");
+    assert!(s.detected_by.contains("x1-64: energy guard"), "{s:?}");
+
+    let (h, rows) = rows(&dir.path().join("stress_runs.csv"));
+    for row in rows.iter().filter(|x| col(&h, x, "scene_dt") == "false") {
+        let max: f64 = col(&h, row, "energy_error_full_max_pct").parse().unwrap();
+        let value: f64 = col(&h, row, "value").parse().unwrap();
+        assert_eq!(max, value, "{row:?}");
+    }
+    let md = std::fs::read_to_string(dir.path().join("stress_table.md")).unwrap();
+    assert!(
+        md.contains("| steel_drop | 9.49e-7 | pcdm | none |"),
+        "{md}"
+    );
+    assert!(md.contains("stopped by guard `energy blow-up`"), "{md}");
+    let full = std::fs::read_to_string(dir.path().join("stress_full.md")).unwrap();
+    assert_eq!(full.lines().count(), 2 + 1, "{full}");
 }

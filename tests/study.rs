@@ -121,13 +121,25 @@ fn converge_torque_fibre_outputs() {
             "alpha_rad",
             "geodesic_rad",
             "x_error_pct",
+            "energy_error_full_max_pct",
+            "energy_error_full_final_pct",
             "energy_error_max_pct",
             "energy_error_final_pct",
             "wall_s",
+            "timing_runs",
             "stopped"
         ]
     );
     assert_eq!(rows.len(), 6);
+    // Timed in the sequential pass: short runs are repeated (median).
+    for (w, n) in col(&h, &rows, "wall_s")
+        .iter()
+        .zip(col(&h, &rows, "timing_runs"))
+    {
+        assert!(w.parse::<f64>().unwrap() > 0.0);
+        assert!(n.parse::<u32>().unwrap() >= 3, "{n}");
+    }
+    assert!(stdout.contains("none concurrent"), "{stdout}");
     // Each δt divides the end time exactly.
     for (dt, steps) in col(&h, &rows, "dt").iter().zip(col(&h, &rows, "steps")) {
         let dt: f64 = dt.parse().unwrap();
@@ -148,7 +160,63 @@ fn converge_torque_fibre_outputs() {
         is_png(&dir.path().join(format!("{stem}.png")));
         svg_with(&dir.path().join(format!("{stem}.svg")), &["pcdm", "euler"]);
     }
-    svg_with(&dir.path().join("convergence.svg"), &["slope 1", "slope 2"]);
+    svg_with(
+        &dir.path().join("convergence.svg"),
+        &["slope 1", "slope 2", "Richardson"],
+    );
+    svg_with(&dir.path().join("work_precision.svg"), &["timed alone"]);
+}
+
+/// Contact scenes are measured on the conserved budget (Eq. 65 with the
+/// elastic energy). In the coaxial end-on impact nothing rotates, so every
+/// rotator gives velocity Verlet's energy error: small, and second order.
+/// Plain Eq. 65 would report the elastic dip (~99 % mid-contact) instead.
+#[test]
+fn converge_contact_scene_uses_full_energy_budget() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = fibresim(
+        &[
+            "converge",
+            "scenarios/stress/coaxial.toml",
+            "--rotators",
+            "pcdm,leapfrog",
+            "--points",
+            "3",
+            "--out",
+            dir.path().to_str().unwrap(),
+        ],
+        None,
+    );
+    ok(&o);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("elastic energy"), "{stdout}");
+    let (h, rows) = csv(&dir.path().join("convergence.csv"));
+    let full: Vec<f64> = col(&h, &rows, "energy_error_full_max_pct")
+        .iter()
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let plain: Vec<f64> = col(&h, &rows, "energy_error_max_pct")
+        .iter()
+        .map(|x| x.parse().unwrap())
+        .collect();
+    for (k, (f, p)) in full.iter().zip(&plain).enumerate() {
+        assert!(*p > 90.0, "plain Eq. 65 sees the elastic dip: {p}");
+        // δt = 1e-4, 1e-5, 1e-6 s: 3.75, 0.0325, 3.4e-4 % measured; bound 5, 0.05, 5e-4 %.
+        assert!(*f < 5.0 * 1e-2f64.powi(k as i32 % 3), "row {k}: {f}");
+    }
+    let (h, rows) = csv(&dir.path().join("orders.csv"));
+    for (m, order) in col(&h, &rows, "metric").iter().zip(col(&h, &rows, "order")) {
+        if m == "energy_error_full_max_pct" {
+            let order: f64 = order.parse().unwrap();
+            assert!((order - 2.0).abs() < 0.2, "Verlet is second order: {order}");
+        } else {
+            assert_eq!(m, "energy_error_full_final_pct");
+        }
+    }
+    svg_with(
+        &dir.path().join("convergence.svg"),
+        &["Eq. 65 with elastic energy", "pcdm", "leapfrog"],
+    );
 }
 
 #[test]
@@ -198,9 +266,10 @@ fn converge_closed_form_and_energy_scenes() {
         None,
     ));
     let (h, rows) = csv(&out2.join("convergence.csv"));
-    for (a, e) in col(&h, &rows, "alpha_rad")
-        .iter()
-        .zip(col(&h, &rows, "energy_error_max_pct"))
+    for (a, e) in
+        col(&h, &rows, "alpha_rad")
+            .iter()
+            .zip(col(&h, &rows, "energy_error_full_max_pct"))
     {
         assert!(a.is_empty());
         assert!(e.parse::<f64>().unwrap() >= 0.0);
@@ -260,7 +329,14 @@ fn compare_is_deterministic_across_thread_counts() {
             let (h2, r2) = csv(&b.join("compare.csv"));
             col(&h2, &r2, "max_error")
         });
-        let mut files = vec!["energy_error.svg".to_string()];
+        // The figure is named by what it plots.
+        let fig = [
+            "angle_error_rk4",
+            "angle_error_closed_form",
+            "energy_error_full",
+        ][k];
+        assert!(!a.join("energy_error.png").exists());
+        let mut files = vec![format!("{fig}.svg")];
         for r in col(&h, &rows, "rotator") {
             files.push(format!("{r}/energy.csv"));
             if k < 2 {
@@ -274,8 +350,8 @@ fn compare_is_deterministic_across_thread_counts() {
             );
             assert!(x == y, "{scenario}: {f} differs between 1 and 2 threads");
         }
-        is_png(&a.join("energy_error.png"));
-        svg_with(&a.join("energy_error.svg"), &["pcdm", "leapfrog", "rk4"]);
+        is_png(&a.join(format!("{fig}.png")));
+        svg_with(&a.join(format!("{fig}.svg")), &["pcdm", "leapfrog", "rk4"]);
     }
 }
 
@@ -360,7 +436,47 @@ fn plot_command() {
         ],
         None,
     ));
-    svg_with(&svg, &["pcdm", "scalar", "err_rad"]);
+    // Axes carry units; --log-y forces the log axis (decade labels).
+    svg_with(
+        &svg,
+        &[
+            "pcdm",
+            "scalar",
+            "err_rad: geodesic angle to the reference (rad)",
+            "t: time (s)",
+            "10⁻",
+        ],
+    );
+    // Without flags: the energy of the sphere under e^t torque grows over
+    // decades, so y is log; t is a linear grid, so x stays linear.
+    let auto = dir.path().join("auto.svg");
+    ok(&fibresim(
+        &[
+            "plot",
+            e1,
+            "--column",
+            "e_rot",
+            "-o",
+            auto.to_str().unwrap(),
+        ],
+        None,
+    ));
+    svg_with(&auto, &["e_rot (J)", "t: time (s)", "10⁻"]);
+    // compare.csv: max_error takes its unit from the metric column.
+    let lin = dir.path().join("table.svg");
+    let table = out.join("compare.csv");
+    ok(&fibresim(
+        &[
+            "plot",
+            table.to_str().unwrap(),
+            "--x",
+            "wall_s",
+            "-o",
+            lin.to_str().unwrap(),
+        ],
+        None,
+    ));
+    svg_with(&lin, &["max_error (rad)", "wall_s: wall time (s)"]);
     let missing_col = fibresim(&["plot", e1, "--column", "nope"], None);
     assert_eq!(missing_col.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&missing_col.stderr).contains("e_rot"));
@@ -368,6 +484,33 @@ fn plot_command() {
     assert_eq!(missing_file.status.code(), Some(2));
     let bad_x = fibresim(&["plot", e1, "--x", "nope"], None);
     assert_eq!(bad_x.status.code(), Some(2));
+}
+
+/// The automatic log axis: data spread over decades, not linear grids.
+#[test]
+fn plot_axis_goes_log_when_data_span_decades() {
+    use fibresim::study::csvplot::wants_log;
+    let grid: Vec<f64> = (0..=2000).map(|i| i as f64 * 1e-3).collect();
+    assert!(!wants_log(&grid), "t = 0, 1e-3, ..., 2: linear");
+    let dts = [1e-5, 3.2e-6, 1e-6, 3.2e-7, 1e-7];
+    assert!(wants_log(&dts), "a geometric dt sequence over 2 decades");
+    let growth: Vec<f64> = (0..100).map(|i| (0.1 * i as f64).exp()).collect();
+    assert!(wants_log(&growth), "e^t over 4.3 decades");
+    assert!(!wants_log(&[1.0, 10.0, 50.0]), "under 2 decades");
+    assert!(!wants_log(&[-1.0, 1e-6, 1.0]), "a negative value");
+    assert!(!wants_log(&[0.0, f64::NAN, 1.0]), "one positive value");
+}
+
+/// converge's default rotator set (for `src/cli.rs`) is every scheme, so the
+/// work-precision figure shows each one (issue 4).
+#[test]
+fn converge_default_rotators_are_all_schemes() {
+    use fibresim::integrate::rotate::RotatorKind;
+    use fibresim::study::{converge::DEFAULT_ROTATORS, parse_rotators};
+    assert_eq!(
+        parse_rotators(Some(DEFAULT_ROTATORS)).unwrap(),
+        RotatorKind::ALL.to_vec()
+    );
 }
 
 #[test]

@@ -53,6 +53,8 @@ pub struct CompareRow {
 pub struct CompareReport {
     /// Name of the error metric, with its unit.
     pub metric: &'static str,
+    /// Stem of the figure (`.png` and `.svg`), named by the metric.
+    pub figure: &'static str,
     pub rows: Vec<CompareRow>,
 }
 
@@ -69,6 +71,15 @@ impl Metric {
             Metric::Energy => "energy error, Eq. 65 with elastic energy (%)",
             Metric::ClosedForm => "angle to the closed form (rad)",
             Metric::Rk4Angle => "angle to rk4 at δt/10 (rad)",
+        }
+    }
+
+    /// File stem of the figure: what it plots.
+    fn figure(self) -> &'static str {
+        match self {
+            Metric::Energy => "energy_error_full",
+            Metric::ClosedForm => "angle_error_closed_form",
+            Metric::Rk4Angle => "angle_error_rk4",
         }
     }
 }
@@ -219,6 +230,7 @@ pub fn compare(scene: &Scene, opts: &CompareOptions) -> Result<CompareReport> {
     }
     let report = CompareReport {
         metric: metric.label(),
+        figure: metric.figure(),
         rows,
     };
     write_outputs(scene, &report, opts, dt)?;
@@ -312,11 +324,11 @@ fn write_outputs(scene: &Scene, r: &CompareReport, opts: &CompareOptions, dt: f6
         .fold((f64::INFINITY, 0.0f64), |(a, b), &e| (a.min(e), b.max(e)));
     chart.log_y = hi / lo > 100.0;
     chart.legend = LegendPos::Auto;
-    render_both(&chart, dir, "energy_error")
+    render_both(&chart, dir, r.figure)
 }
 
 pub fn print_report(r: &CompareReport) {
-    println!("error metric: {}", r.metric);
+    println!("error metric: {} (figure {}.png/.svg)", r.metric, r.figure);
     println!(
         "{:<11} {:>12} {:>12} {:>10} {:>14}  stopped",
         "rotator", "max error", "final error", "wall_s", "ns/body-step"

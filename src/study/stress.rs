@@ -26,6 +26,11 @@
 //!
 //! The step count is `⌈t_end/δt⌉`, so every run covers the case's event and
 //! δt is exactly the stated multiple.
+//!
+//! **Errors of stopped runs.** A guard checks the state after a step; the
+//! energy error of that step is counted (it is the guard's value for an
+//! energy stop), so a stopped run's largest error is not understated. The
+//! scalar-pole guard fires before its step: every computed step is counted.
 
 use super::{cell, fmt_e, write_csv, Progress};
 use crate::advice::advise;
@@ -33,8 +38,8 @@ use crate::body::BodyState;
 use crate::energy::error_pct;
 use crate::error::{Diagnosis, Error, Result};
 use crate::integrate::rotate::RotatorKind;
+use crate::integrate::step::World;
 use crate::plot::{render_map, CellMap, MapPanel};
-use crate::run::integrate_observed;
 use crate::scenario::{Scene, SimParams};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -124,6 +129,21 @@ impl Verdict {
         *self == Verdict::Stable
     }
 
+    /// How the run ended, in a few words (tables).
+    pub fn short(&self, o: &StressOptions) -> String {
+        match self {
+            Verdict::Stable => "stable".into(),
+            Verdict::Energy => format!("finished, energy/L error > {} %", o.energy_tol_pct),
+            Verdict::Outcome => format!("finished, final state off rk4 > {} %", o.outcome_tol_pct),
+            Verdict::Guard(d) => format!(
+                "stopped by guard `{}` at step {}",
+                short_kind(&d.kind),
+                d.step
+            ),
+            Verdict::Panic(_) => "panic".into(),
+        }
+    }
+
     /// Map class (index into [`CLASSES`]) and the short cell text.
     fn class(&self) -> (usize, &'static str) {
         match self {
@@ -184,6 +204,20 @@ pub const CLASSES: [(&str, [u8; 3]); 8] = [
     ("panic", [0x00, 0x00, 0x00]),
 ];
 
+/// Few-word name of map class `c`, for the summarised detections.
+fn class_words(c: usize, o: &StressOptions) -> String {
+    match c {
+        0 => "stable".into(),
+        1 => format!("energy/L error > {} %", o.energy_tol_pct),
+        2 => format!("final state off rk4 > {} %", o.outcome_tol_pct),
+        3 => "overlap guard".into(),
+        4 => "energy guard".into(),
+        5 => "scalar tan-pole guard".into(),
+        6 => "non-finite / |q| guard".into(),
+        _ => "PANIC".into(),
+    }
+}
+
 /// The diagnosis kind up to its explanation (`"overlap beyond the Hertz range"`).
 fn short_kind(kind: &str) -> &str {
     kind.split([';', '(']).next().unwrap_or(kind).trim()
@@ -201,8 +235,12 @@ pub struct StressRun {
     pub dt: f64,
     pub steps: u64,
     pub steps_done: u64,
-    /// Largest full-budget energy error over the steps run, percent.
+    /// Largest full-budget energy error over the steps run, percent; for a
+    /// stopped run the step that tripped the guard included.
     pub energy_err_pct: f64,
+    /// Full-budget energy error at the stop (the last measured state),
+    /// percent; NaN for a run that finished.
+    pub energy_err_at_stop_pct: f64,
     /// Largest world angular momentum error, percent (contact-free scenes; else NaN).
     pub momentum_err_pct: f64,
     /// Final-state deviation from the reference, percent (NaN if not finished).
@@ -223,6 +261,11 @@ pub struct StressSummary {
     /// Stable factors above the first unstable one (non-monotone stability).
     pub stable_above_failure: Vec<f64>,
     pub err_at_recommended_pct: f64,
+    /// How the run at the recommended δt ended ([`Verdict::short`]).
+    pub at_recommended: String,
+    /// The unstable runs, summarised: consecutive factors with the same
+    /// detection grouped, e.g. `x0.25-0.5: energy/L error > tol`.
+    pub detected_by: String,
     pub err_at_scene_dt_pct: f64,
     pub scene_dt: f64,
     /// `x<factor>: <detection>` for every unstable run.
@@ -285,9 +328,39 @@ fn sweep_scene(scene: &Scene, kind: RotatorKind, dt: f64) -> Scene {
 struct Raw {
     steps_done: u64,
     energy: f64,
+    energy_at_stop: f64,
     momentum: f64,
     end: std::result::Result<Vec<(DVec3, DVec3)>, Verdict>,
     wall_s: f64,
+}
+
+/// Integrate `scene`, calling `observe` after every completed step; a stopped
+/// run also returns its world at the stop (unlike `run::integrate_observed`),
+/// whose ledger is that of the last measured state.
+fn integrate_to_stop<'s>(
+    scene: &'s Scene,
+    mut observe: impl FnMut(&World<'s>),
+) -> (World<'s>, Option<Diagnosis>) {
+    fn go<'s, R: crate::integrate::rotate::Rotator>(
+        scene: &'s Scene,
+        observe: &mut dyn FnMut(&World<'s>),
+    ) -> (World<'s>, Option<Diagnosis>) {
+        let mut world = World::new(scene);
+        while world.step < scene.sim.steps {
+            if let Err(d) = world.step::<R>() {
+                return (world, Some(*d));
+            }
+            observe(&world);
+        }
+        (world, None)
+    }
+    crate::with_rotator!(scene.sim.rotator, R => go::<R>(scene, &mut observe))
+}
+
+/// True when the guard of `d` checked a completed step (all but the scalar
+/// pole, which fires before its step with the state half advanced).
+fn stopped_after_step(d: &Diagnosis) -> bool {
+    d.quantity != "|omega| dt / 2"
 }
 
 /// Run one scene, observing the energy and angular momentum at every step.
@@ -295,6 +368,7 @@ fn run_raw(s: &Scene, bar: Option<indicatif::ProgressBar>) -> Raw {
     let contact_free = !s.needs_contacts();
     let l0: DVec3 = invariants(s, &s.initial, 0.0).iter().map(|x| x.1).sum();
     let (mut energy, mut momentum, mut done) = (0.0f64, 0.0f64, 0u64);
+    let mut at_stop = f64::NAN;
     let worse = |acc: &mut f64, x: f64| {
         if x.is_nan() {
             *acc = f64::INFINITY;
@@ -304,26 +378,41 @@ fn run_raw(s: &Scene, bar: Option<indicatif::ProgressBar>) -> Raw {
     };
     let tick = super::tick(s.sim.steps);
     let t0 = Instant::now();
+    let momentum_err = |w: &World| {
+        let l: DVec3 = invariants(s, &w.states, 0.0).iter().map(|x| x.1).sum();
+        100.0 * (l - l0).length() / l0.length()
+    };
     let r = catch_unwind(AssertUnwindSafe(|| {
-        integrate_observed(s, |w| {
+        let (w, stop) = integrate_to_stop(s, |w| {
             done = w.step;
             worse(&mut energy, error_pct(w.ledger.total_full(), w.e0_full));
             if contact_free {
-                let l: DVec3 = invariants(s, &w.states, 0.0).iter().map(|x| x.1).sum();
-                worse(&mut momentum, 100.0 * (l - l0).length() / l0.length());
+                worse(&mut momentum, momentum_err(w));
             }
             if let Some(b) = &bar {
                 if w.step % tick == 0 {
                     b.set_position(w.step);
                 }
             }
-        })
+        });
+        if let Some(d) = &stop {
+            // The step that tripped the guard was not observed: count it.
+            at_stop = error_pct(w.ledger.total_full(), w.e0_full);
+            worse(&mut energy, at_stop);
+            if contact_free && stopped_after_step(d) {
+                worse(&mut momentum, momentum_err(&w));
+            }
+        }
+        match stop {
+            None => Ok(invariants(s, &w.states, w.time())),
+            Some(d) => Err(d),
+        }
     }));
     if let Some(b) = bar {
         b.finish_and_clear();
     }
     let end = match r {
-        Ok(Ok(w)) => Ok(invariants(s, &w.states, w.time())),
+        Ok(Ok(inv)) => Ok(inv),
         Ok(Err(d)) => {
             done = d.step;
             Err(Verdict::Guard(d))
@@ -338,6 +427,11 @@ fn run_raw(s: &Scene, bar: Option<indicatif::ProgressBar>) -> Raw {
     Raw {
         steps_done: done,
         energy,
+        energy_at_stop: if at_stop.is_nan() && matches!(end, Err(Verdict::Guard(_))) {
+            f64::INFINITY // non-finite state: the energy is undefined
+        } else {
+            at_stop
+        },
         momentum: if contact_free { momentum } else { f64::NAN },
         end,
         wall_s: t0.elapsed().as_secs_f64(),
@@ -488,6 +582,7 @@ pub fn stress(cases: Vec<StressCase>, opts: &StressOptions) -> Result<StressRepo
                 steps: j.scene.sim.steps,
                 steps_done: raw.steps_done,
                 energy_err_pct: raw.energy,
+                energy_err_at_stop_pct: raw.energy_at_stop,
                 momentum_err_pct: raw.momentum,
                 outcome_err_pct: outcome,
                 verdict,
@@ -531,6 +626,7 @@ fn summarise(cases: &[StressCase], runs: &[StressRun], opts: &StressOptions) -> 
                 .iter()
                 .find(|r| r.case == c.name && r.rotator == k && r.scene_dt);
             let err = |r: &StressRun| r.energy_err_pct.max(r.momentum_err_pct);
+            let at_rec = sweep.iter().find(|r| r.factor == 1.0);
             out.push(StressSummary {
                 case: c.name.clone(),
                 rotator: k,
@@ -538,10 +634,9 @@ fn summarise(cases: &[StressCase], runs: &[StressRun], opts: &StressOptions) -> 
                 hard_limit_factor: c.hard_limit_dt.map_or(f64::NAN, |h| h / c.recommended_dt),
                 largest_stable_factor: largest,
                 stable_above_failure: stable_above,
-                err_at_recommended_pct: sweep
-                    .iter()
-                    .find(|r| r.factor == 1.0)
-                    .map_or(f64::NAN, |r| err(r)),
+                err_at_recommended_pct: at_rec.map_or(f64::NAN, |r| err(r)),
+                at_recommended: at_rec.map_or("not run".into(), |r| r.verdict.short(opts)),
+                detected_by: detected_by(&sweep, scene_run, opts),
                 err_at_scene_dt_pct: scene_run.map_or(f64::NAN, err),
                 scene_dt: c.scene.sim.dt,
                 detections: sweep
@@ -567,23 +662,62 @@ fn summarise(cases: &[StressCase], runs: &[StressRun], opts: &StressOptions) -> 
     out
 }
 
+/// The unstable runs of one case × rotator, grouped: runs of consecutive
+/// factors with the same detection become one `x<a>-<b>: <how>` item.
+fn detected_by(sweep: &[&StressRun], scene_run: Option<&StressRun>, o: &StressOptions) -> String {
+    let mut items: Vec<(f64, f64, usize)> = vec![];
+    for r in sweep {
+        let class = r.verdict.class().0;
+        match items.last_mut() {
+            Some(last) if class == last.2 && class != 0 => last.1 = r.factor,
+            _ => items.push((r.factor, r.factor, class)),
+        }
+    }
+    let mut out: Vec<String> = items
+        .into_iter()
+        .filter(|i| i.2 != 0)
+        .map(|(a, b, c)| {
+            let range = if a == b {
+                format!("x{a}")
+            } else {
+                format!("x{a}-{b}")
+            };
+            format!("{range}: {}", class_words(c, o))
+        })
+        .collect();
+    if let Some(r) = scene_run.filter(|r| !r.verdict.is_stable()) {
+        out.push(format!(
+            "scene dt {:e}: {}",
+            r.dt,
+            class_words(r.verdict.class().0, o)
+        ));
+    }
+    if out.is_empty() {
+        "none unstable".into()
+    } else {
+        out.join("; ")
+    }
+}
+
 /// Header of `stress.csv`.
-pub const SUMMARY_HEADER: [&str; 11] = [
+pub const SUMMARY_HEADER: [&str; 13] = [
     "case",
     "rotator",
     "recommended_dt",
     "hard_limit_factor",
     "largest_stable_dt",
     "largest_stable_factor",
-    "energy_error_at_recommended_pct",
+    "energy_error_full_at_recommended_pct",
+    "run_at_recommended",
     "scene_dt",
-    "energy_error_at_scene_dt_pct",
+    "energy_error_full_at_scene_dt_pct",
     "stable_above_first_failure",
+    "detected_by",
     "unstable_runs",
 ];
 
 /// Header of `stress_runs.csv`.
-pub const RUNS_HEADER: [&str; 15] = [
+pub const RUNS_HEADER: [&str; 16] = [
     "case",
     "rotator",
     "factor",
@@ -592,7 +726,8 @@ pub const RUNS_HEADER: [&str; 15] = [
     "steps",
     "steps_done",
     "stable",
-    "energy_error_max_pct",
+    "energy_error_full_max_pct",
+    "energy_error_full_at_stop_pct",
     "momentum_error_max_pct",
     "outcome_error_pct",
     "detection",
@@ -615,6 +750,7 @@ fn write_outputs(r: &StressReport, opts: &StressOptions) -> Result<()> {
                 cell(s.largest_stable_factor * s.recommended_dt),
                 cell(s.largest_stable_factor),
                 cell(s.err_at_recommended_pct),
+                s.at_recommended.clone(),
                 cell(s.scene_dt),
                 cell(s.err_at_scene_dt_pct),
                 s.stable_above_failure
@@ -622,6 +758,7 @@ fn write_outputs(r: &StressReport, opts: &StressOptions) -> Result<()> {
                     .map(|f| crate::output::num(*f))
                     .collect::<Vec<_>>()
                     .join(" "),
+                s.detected_by.clone(),
                 s.detections.join("; "),
             ]
         })
@@ -656,6 +793,7 @@ fn write_outputs(r: &StressReport, opts: &StressOptions) -> Result<()> {
                 x.steps_done.to_string(),
                 x.verdict.is_stable().to_string(),
                 cell(x.energy_err_pct),
+                cell(x.energy_err_at_stop_pct),
                 cell(x.momentum_err_pct),
                 cell(x.outcome_err_pct),
                 kind,
@@ -666,6 +804,11 @@ fn write_outputs(r: &StressReport, opts: &StressOptions) -> Result<()> {
         })
         .collect();
     write_csv(&dir.join("stress_runs.csv"), &RUNS_HEADER, &rows)?;
+    let (compact, full) = markdown(r);
+    for (name, text) in [("stress_table.md", compact), ("stress_full.md", full)] {
+        let p = dir.join(name);
+        std::fs::write(&p, text).map_err(|e| Error::io(&p, e))?;
+    }
     let map = stability_map(r, opts);
     for ext in ["png", "svg"] {
         let p = dir.join(format!("stability_map.{ext}"));
@@ -842,4 +985,112 @@ pub fn wildcard(pat: &str, s: &str) -> bool {
         }
     }
     p[i..].iter().all(|&c| c == '*')
+}
+
+/// `x` to 3 significant digits: fixed in [1e-3, 1e4), else scientific.
+fn sig3(x: f64) -> String {
+    if !x.is_finite() {
+        return if x.is_nan() {
+            "–".into()
+        } else {
+            "∞".into()
+        };
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    let e = x.abs().log10().floor() as i32;
+    if (-3..4).contains(&e) {
+        format!("{:.*}", (2 - e).max(0) as usize, x)
+    } else {
+        format!("{x:.2e}")
+    }
+}
+
+impl StressSummary {
+    /// Largest stable δt cell: `4.81e-5 (x4)`, `none`, plus non-monotone notes.
+    fn stable_cell(&self) -> String {
+        let mut c = if self.largest_stable_factor.is_finite() {
+            format!(
+                "{:.2e} (×{})",
+                self.largest_stable_factor * self.recommended_dt,
+                self.largest_stable_factor
+            )
+        } else {
+            "none".into()
+        };
+        if !self.stable_above_failure.is_empty() {
+            let f: Vec<String> = self
+                .stable_above_failure
+                .iter()
+                .map(|f| format!("×{f}"))
+                .collect();
+            c += &format!(", stable again at {}", f.join(", "));
+        }
+        c
+    }
+
+    /// Error at δt_rec with how that run ended, e.g. `10.1 % (stopped by …)`.
+    fn err_cell(&self) -> String {
+        let e = format!("{} %", sig3(self.err_at_recommended_pct));
+        if self.at_recommended == "stable" {
+            e
+        } else {
+            format!("{e} ({})", self.at_recommended)
+        }
+    }
+}
+
+/// Markdown tables of the result: a compact one (rotators with the same
+/// result share a row; for the README) and one line per case × rotator.
+pub fn markdown(r: &StressReport) -> (String, String) {
+    let mut compact = String::from(
+        "| case | δt_rec (s) | rotators | largest stable δt (s) | energy error at δt_rec (max over the run; spin: also L) | how the unstable runs were detected |\n|---|---|---|---|---|---|\n",
+    );
+    for c in &r.cases {
+        let rows: Vec<&StressSummary> = r.summary.iter().filter(|s| s.case == c.name).collect();
+        let mut groups: Vec<(Vec<&str>, [String; 3])> = vec![];
+        for s in &rows {
+            let key = [s.stable_cell(), s.err_cell(), s.detected_by.clone()];
+            match groups.iter_mut().find(|g| g.1 == key) {
+                Some(g) => g.0.push(s.rotator.name()),
+                None => groups.push((vec![s.rotator.name()], key)),
+            }
+        }
+        for (names, [stable, err, det]) in groups {
+            let who = if names.len() == rows.len() && rows.len() > 1 {
+                format!("all {}", names.len())
+            } else {
+                names.join(", ")
+            };
+            compact += &format!(
+                "| {} | {:.2e} | {who} | {stable} | {err} | {det} |\n",
+                c.name, c.recommended_dt
+            );
+        }
+    }
+    let mut full = String::from(
+        "| case | rotator | δt_rec (s) | hard limit (× rec) | largest stable δt (s) | energy error at δt_rec (%) | run at δt_rec | scene δt (s) | energy error at scene δt (%) | how the unstable runs were detected | first unstable run, in detail |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for s in &r.summary {
+        full += &format!(
+            "| {} | {} | {:.2e} | {} | {} | {} | {} | {:e} | {} | {} | {} |\n",
+            s.case,
+            s.rotator.name(),
+            s.recommended_dt,
+            if s.hard_limit_factor.is_finite() {
+                format!("{:.1}", s.hard_limit_factor)
+            } else {
+                "–".into()
+            },
+            s.stable_cell(),
+            sig3(s.err_at_recommended_pct),
+            s.at_recommended,
+            s.scene_dt,
+            sig3(s.err_at_scene_dt_pct),
+            s.detected_by,
+            s.detections.first().map_or("–", String::as_str),
+        );
+    }
+    (compact, full)
 }
