@@ -101,8 +101,8 @@ pub struct CompareArgs {
 pub struct ConvergeArgs {
     /// Scenario TOML file.
     pub scenario: PathBuf,
-    /// Comma-separated rotator names, `paper` (pcdm,scalar,euler,leapfrog) or `all`.
-    #[arg(long, default_value = "paper")]
+    /// Comma-separated rotator names, `paper` (pcdm,scalar,euler,leapfrog) or `all` [every scheme, so the work-precision figure shows each].
+    #[arg(long, default_value = crate::study::converge::DEFAULT_ROTATORS)]
     pub rotators: String,
     /// Largest time step, s [default: 10x the scene's: 1e-5 for test case 4, the paper's range].
     #[arg(long = "dt-max")]
@@ -141,10 +141,10 @@ pub struct PlotArgs {
     /// Column on the x axis [default: t, else dt].
     #[arg(long)]
     pub x: Option<String>,
-    /// Logarithmic y axis.
+    /// Force a logarithmic y axis. Without it an axis is logarithmic when its positive values span >= 2 decades and are spread over them; axes show units for known columns.
     #[arg(long = "log-y")]
     pub log_y: bool,
-    /// Logarithmic x axis.
+    /// Force a logarithmic x axis (see --log-y).
     #[arg(long = "log-x")]
     pub log_x: bool,
 }

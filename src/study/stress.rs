@@ -154,7 +154,7 @@ impl Verdict {
                 "overlap / D" => (3, "ovl"),
                 "energy error %" => (4, "E>10%"),
                 "|omega| dt / 2" => (5, "tan"),
-                "finite state" => (6, "NaN"),
+                "state" | "energy" => (6, "NaN"),
                 _ => (6, "|q|"),
             },
             Verdict::Panic(_) => (7, "PANIC"),
