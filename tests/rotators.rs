@@ -41,9 +41,15 @@ fn test_case_3_against_closed_form() {
     }
     // Done-when of issue 2: pcdm (mid-step torque) within 1e-6 rad.
     assert!(errs[&RotatorKind::Pcdm].0 < 1e-6);
-    // pcdm-start reproduces the paper's PCDM row (0.63 %), scalar its scalar row (2.15 %).
+    // pcdm-start and scalar have the size of the paper's PCDM (0.63 %) and
+    // scalar (2.15 %) errors, but they lag the closed form (x too large)
+    // where the paper's results lead it: see the next test.
     assert!((errs[&RotatorKind::PcdmStart].1 - 0.63).abs() < 0.01);
     assert!((errs[&RotatorKind::Scalar].1 - 2.15).abs() < 0.01);
+    for k in [RotatorKind::PcdmStart, RotatorKind::Scalar] {
+        let x = final_state(&scene, k, 1e-4).rot.q * DVec3::X;
+        assert!(x.x > x_ref.x, "{k} lags: x = {x}");
+    }
     // Leap-frog is second order on a sphere (ω does not depend on q).
     assert!(errs[&RotatorKind::Leapfrog].0 < 1e-4);
     assert!(errs[&RotatorKind::Rk4].0 < 1e-9);
@@ -51,6 +57,55 @@ fn test_case_3_against_closed_form() {
     for k in [RotatorKind::Euler, RotatorKind::Scalar, RotatorKind::Direct] {
         assert!((errs[&k].0 - 6.6e-3).abs() < 0.3e-3, "{k}: {}", errs[&k].0);
     }
+}
+
+/// The paper's Table 2 vectors, signs included, come out of our schemes when
+/// the torque is taken at the *end* of each step, `t_{n+1}` (a clock advanced
+/// before the torque is evaluated), and the scalar method advances ω before q.
+/// Reference numbers: the paper's Table 2, scalar (0.2871152, 0, −0.9578961),
+/// PCDM (0.2915775, 0, −0.9565472). Both are reproduced to 3e-6 (they print
+/// 7 digits); with the torque at `t_n` the same schemes miss by 1e-2 on the
+/// other side of the closed form (previous test).
+#[test]
+fn paper_table_2_is_reproduced_with_the_torque_at_the_step_end() {
+    let text = include_str!("../scenarios/torque_sphere.toml");
+    let text = &text[..text.find("[reference]").expect("tc3 has a reference")];
+    let dt = 1e-4;
+    let shifted = |shift: f64, omega_y: f64| {
+        let t = text
+            .replace("\"1e5*exp(t)\"", &format!("\"1e5*exp(t+{shift:e})\""))
+            .replace(
+                "quaternion = [1.0, 0.0, 0.0, 0.0]",
+                &format!(
+                    "quaternion = [1.0, 0.0, 0.0, 0.0]\nangular_velocity = [0.0, {omega_y:e}, 0.0]"
+                ),
+            );
+        scene_str(&t)
+    };
+    // PCDM with both torques at t_{n+1}: pcdm-start (both at t_n) under τ(t + δt).
+    let x = final_state(&shifted(dt, 0.0), RotatorKind::PcdmStart, dt)
+        .rot
+        .q
+        * DVec3::X;
+    println!("PCDM, torque at t_n+1:   {x}  (paper 0.2915775, 0, -0.9565472)");
+    assert!(
+        (x - DVec3::new(0.2915775, 0.0, -0.9565472)).length() < 5e-6,
+        "{x}"
+    );
+    // Scalar with ω first, `ω_{n+1} = ω_n + δt τ(t_{n+1})/I`, then q with
+    // ω_{n+1}: our scalar (q with ω_n, then ω with τ(t_n)) run one step ahead in
+    // ω, i.e. from ω_1 = δt τ(δt)/I under τ(t + 2δt).
+    let inertia = 0.4 * 1100.0 * 4.0 / 3.0 * std::f64::consts::PI;
+    let omega_1 = dt * 1e5 * dt.exp() / inertia;
+    let x = final_state(&shifted(2.0 * dt, omega_1), RotatorKind::Scalar, dt)
+        .rot
+        .q
+        * DVec3::X;
+    println!("scalar, ω first at t_n+1: {x}  (paper 0.2871152, 0, -0.9578961)");
+    assert!(
+        (x - DVec3::new(0.2871152, 0.0, -0.9578961)).length() < 5e-6,
+        "{x}"
+    );
 }
 
 fn inertia() -> Inertia {
@@ -85,7 +140,7 @@ fn scalar_equals_direct_below_pi() {
         let dt = 1e-3;
         let w_norm_dt = std::f64::consts::PI * 0.99 * (i as f64 / 2000.0);
         let omega_b = random_unit(&mut seed) * (w_norm_dt / dt);
-        let torque = |_t: f64, _q: DQuat| DVec3::new(1e-7, -2e-7, 3e-8);
+        let torque = |_t: f64| DVec3::new(1e-7, -2e-7, 3e-8);
         let mut a = RotState { q, omega_b };
         let mut b = a;
         Scalar::advance(&mut a, &inertia(), torque, 0.0, dt).unwrap();
@@ -109,7 +164,7 @@ fn scalar_singularity_is_an_error() {
             omega_b: DVec3::new(0.0, w_dt / dt, 0.0),
         };
         let before = s;
-        let r = Scalar::advance(&mut s, &inertia(), |_, _| DVec3::ZERO, 0.0, dt);
+        let r = Scalar::advance(&mut s, &inertia(), |_| DVec3::ZERO, 0.0, dt);
         assert!(
             matches!(r, Err(RotatorFault::ScalarSingularity { half_angle }) if half_angle >= std::f64::consts::FRAC_PI_2)
         );

@@ -37,7 +37,7 @@ pub use hertz::HertzLaw;
 use glam::DVec3;
 
 /// A fibre as the kernels see it: solid flat-ended cylinder.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FibreGeom {
     /// Centre of mass (world).
     pub centre: DVec3,

@@ -111,9 +111,11 @@ impl ContactStage {
         force.fill(DVec3::ZERO);
         torque.fill(DVec3::ZERO);
         let mut stats = ContactStats::default();
-        self.geoms.clear();
-        self.geoms
-            .extend(bodies.iter().zip(states).map(|(b, s)| geom(b, s)));
+        // In place: the poses change every step, the count never does.
+        self.geoms.resize(bodies.len(), FibreGeom::default());
+        for ((g, b), s) in self.geoms.iter_mut().zip(bodies).zip(states) {
+            *g = geom(b, s);
+        }
         self.neighbours.update(&self.geoms, &self.walls);
 
         for &(i, k) in &self.neighbours.walls {
