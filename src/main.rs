@@ -40,17 +40,26 @@ fn main() {
 }
 
 fn print_rotators() {
+    let kinds = RotatorKind::SELECTABLE;
+    let w = kinds
+        .iter()
+        .map(|k| k.info().equations.len())
+        .max()
+        .unwrap_or(0);
     println!(
-        "{:<11} {:<16} {:>5} {:>6}  torque contract",
+        "{:<11} {:<w$} {:>5} {:>5}  scheme",
         "name", "equations", "order", "evals"
     );
-    for k in RotatorKind::ALL {
+    for k in kinds {
         let i = k.info();
         println!(
-            "{:<11} {:<16} {:>5} {:>6}  {}",
-            i.name, i.equations, i.order, i.torque_evals, i.torque_contract
+            "{:<11} {:<w$} {:>5} {:>5}  {}",
+            i.name, i.equations, i.order, i.torque_evals, i.title
         );
+        println!("{:11} prescribed torque: {}", "", i.torque_contract);
+        println!("{:11} contact torque:    {}", "", i.contact_contract);
     }
+    println!("\norder: measured global order for a general load (tests/rotator_order.rs); evals: torque evaluations per step");
 }
 
 fn load_scene(args: &RunArgs) -> Result<(Scene, String)> {

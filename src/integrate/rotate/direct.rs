@@ -16,10 +16,13 @@ pub struct Direct;
 impl Rotator for Direct {
     const INFO: RotatorInfo = RotatorInfo {
         name: "direct",
+        title:
+            "Direct multiplication by the exponential map; explicit Euler for the angular velocity",
         equations: "Eq. 49-50",
         order: 1,
         torque_evals: 1,
         torque_contract: "torque at (t_n, q_n)",
+        contact_contract: "the contact torque of the start-of-step configuration",
         kick_drift_kick: false,
     };
 

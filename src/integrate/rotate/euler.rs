@@ -16,10 +16,12 @@ pub struct Euler;
 impl Rotator for Euler {
     const INFO: RotatorInfo = RotatorInfo {
         name: "euler",
+        title: "Euler: Taylor step of the quaternion, renormalised; explicit Euler for the angular velocity",
         equations: "Eq. 31-32",
         order: 1,
         torque_evals: 1,
         torque_contract: "torque at (t_n, q_n)",
+        contact_contract: "the contact torque of the start-of-step configuration",
         kick_drift_kick: false,
     };
 

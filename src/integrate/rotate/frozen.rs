@@ -13,10 +13,12 @@ pub struct Frozen;
 impl Rotator for Frozen {
     const INFO: RotatorInfo = RotatorInfo {
         name: "frozen",
-        equations: "diagnostic (no rotation)",
+        title: "Diagnostic: no rotation at all, to separate the contact model's and Verlet's energy error from the rotators'",
+        equations: "none",
         order: 0,
         torque_evals: 0,
         torque_contract: "never asks for torque",
+        contact_contract: "ignored",
         kick_drift_kick: false,
     };
 

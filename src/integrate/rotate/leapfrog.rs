@@ -26,11 +26,13 @@ pub struct Leapfrog;
 impl Rotator for Leapfrog {
     const INFO: RotatorInfo = RotatorInfo {
         name: "leapfrog",
+        title: "Leap-frog in Cayley form, kick-drift-kick on the world angular momentum",
         equations: "Eq. 33-39",
         order: 1,
         torque_evals: 2,
         torque_contract:
             "half-kick with torque at (t_n, q_n); closing half-kick with torque at (t_n+1, q_n+1)",
+        contact_contract: "first half-kick with the start-of-step contact torque, closing half-kick with the torque of the new configuration",
         kick_drift_kick: true,
     };
 

@@ -45,10 +45,13 @@ pub enum RotatorFault {
     ScalarSingularity { half_angle: f64 },
 }
 
-/// Facts about a scheme, read by `--help`, the README table and the tests.
+/// Facts about a scheme, read by `--help`, `fibresim rotators`, the README
+/// table and the tests: the one place each is written.
 #[derive(Debug, Clone, Copy)]
 pub struct RotatorInfo {
     pub name: &'static str,
+    /// One line saying what the scheme is.
+    pub title: &'static str,
     /// The paper's equations this scheme implements.
     pub equations: &'static str,
     /// Global order of accuracy in δt for the orientation with a general
@@ -57,8 +60,12 @@ pub struct RotatorInfo {
     pub order: u32,
     /// Torque evaluations per step.
     pub torque_evals: u32,
-    /// When and at which orientation torque is asked for.
+    /// When a prescribed torque is evaluated, and at which orientation it is
+    /// taken into the body frame.
     pub torque_contract: &'static str,
+    /// What a contact torque means to the scheme: contact torques are known
+    /// only where forces were computed (SPEC §4).
+    pub contact_contract: &'static str,
     /// Whether the scheme has a closing half-kick after forces.
     pub kick_drift_kick: bool,
 }
@@ -89,38 +96,39 @@ pub trait Rotator {
 }
 
 /// The selectable rotators (`--rotator`, scenario key `simulation.rotator`).
+/// Each one's description lives in its [`RotatorInfo`].
 #[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Hash,
-    PartialOrd,
-    Ord,
-    clap::ValueEnum,
-    serde::Serialize,
-    serde::Deserialize,
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
 )]
 #[serde(rename_all = "kebab-case")]
-#[clap(rename_all = "kebab-case")]
 pub enum RotatorKind {
-    /// Euler (Eq. 31–32). Torque at (t_n, q_n).
     Euler,
-    /// Leap-frog with the Cayley factor (Eq. 33–39), kick–drift–kick on the world angular momentum. Torque at (t_n, q_n) and (t_n+1, q_n+1).
     Leapfrog,
-    /// Kleppmann's scalar factor (Eq. 40–45). Torque at (t_n, q_n). Stops with a diagnosis at the tan pole.
     Scalar,
-    /// Direct multiplication by the exponential map (Eq. 49–50). Torque at (t_n, q_n).
     Direct,
-    /// PCDM (Eq. 55–63), torque at (t_n, q_n) and at mid-step (t_n+½, q'_n+½).
     Pcdm,
-    /// PCDM with both torque evaluations at t_n (the timing that reproduces the paper's Table 2); orientations q_n and q'_n+½.
     PcdmStart,
-    /// Classical 4th-order Runge–Kutta on (q, ω_b), projected to unit norm: the reference scheme for convergence studies.
     Rk4,
-    /// Diagnostic: no rotation at all (q and ω_b frozen, torque ignored), to separate the contact model's energy error from the rotators'.
     Frozen,
+}
+
+/// `--rotator` values, with help generated from [`RotatorInfo`].
+impl clap::ValueEnum for RotatorKind {
+    fn value_variants<'a>() -> &'a [Self] {
+        &Self::SELECTABLE
+    }
+
+    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+        let i = self.info();
+        let source = match i.order {
+            0 => String::new(),
+            n => format!(" ({}, order {n})", i.equations),
+        };
+        Some(clap::builder::PossibleValue::new(i.name).help(format!(
+            "{}{source}. Prescribed torque: {}. Contact torque: {}",
+            i.title, i.torque_contract, i.contact_contract
+        )))
+    }
 }
 
 impl RotatorKind {
@@ -133,6 +141,18 @@ impl RotatorKind {
         RotatorKind::Pcdm,
         RotatorKind::PcdmStart,
         RotatorKind::Rk4,
+    ];
+
+    /// Everything `--rotator` accepts: the schemes and the diagnostic.
+    pub const SELECTABLE: [RotatorKind; 8] = [
+        RotatorKind::Euler,
+        RotatorKind::Leapfrog,
+        RotatorKind::Scalar,
+        RotatorKind::Direct,
+        RotatorKind::Pcdm,
+        RotatorKind::PcdmStart,
+        RotatorKind::Rk4,
+        RotatorKind::Frozen,
     ];
 
     /// The paper's four rotators (Figs. 2–4).
@@ -161,10 +181,7 @@ impl RotatorKind {
     }
 
     pub fn from_name(s: &str) -> Option<Self> {
-        Self::ALL
-            .into_iter()
-            .chain([RotatorKind::Frozen])
-            .find(|k| k.name() == s)
+        Self::SELECTABLE.into_iter().find(|k| k.name() == s)
     }
 }
 

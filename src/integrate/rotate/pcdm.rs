@@ -33,19 +33,23 @@ impl<const MID: bool> Rotator for PcdmScheme<MID> {
     const INFO: RotatorInfo = if MID {
         RotatorInfo {
             name: "pcdm",
+            title: "Predictor-corrector direct multiplication, mid-step torque at t_n + dt/2",
             equations: "Eq. 55-63",
             order: 2,
             torque_evals: 2,
             torque_contract: "torque at (t_n, q_n) and at (t_n + dt/2, q'_n+1/2)",
+            contact_contract: "the start-of-step contact torque, taken into the frame of q_n and of the predicted q'_n+1/2",
             kick_drift_kick: false,
         }
     } else {
         RotatorInfo {
             name: "pcdm-start",
+            title: "PCDM with the mid-step torque taken at t_n: first order for time-dependent torques",
             equations: "Eq. 55-63",
             order: 1,
             torque_evals: 2,
             torque_contract: "torque at (t_n, q_n) and at (t_n, q'_n+1/2)",
+            contact_contract: "the start-of-step contact torque, taken into the frame of q_n and of the predicted q'_n+1/2",
             kick_drift_kick: false,
         }
     };

@@ -32,10 +32,12 @@ fn rhs<T: Fn(f64) -> DVec3>(
 impl Rotator for Rk4 {
     const INFO: RotatorInfo = RotatorInfo {
         name: "rk4",
-        equations: "reference (not in the paper)",
+        title: "Classical 4th-order Runge-Kutta on (q, omega_b), projected to unit norm: the reference for convergence studies",
+        equations: "not in the paper",
         order: 4,
         torque_evals: 4,
         torque_contract: "torque at t_n, t_n + dt/2 (twice), t_n + dt, at the stage orientations",
+        contact_contract: "the start-of-step contact torque at every stage (forces are computed once per step), so first order with contacts",
         kick_drift_kick: false,
     };
 

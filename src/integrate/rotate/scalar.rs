@@ -21,10 +21,12 @@ pub const SCALAR_HALF_ANGLE_LIMIT: f64 = std::f64::consts::FRAC_PI_2;
 impl Rotator for Scalar {
     const INFO: RotatorInfo = RotatorInfo {
         name: "scalar",
+        title: "Kleppmann's scalar factor; explicit Euler for the angular velocity",
         equations: "Eq. 40-45",
         order: 1,
         torque_evals: 1,
         torque_contract: "torque at (t_n, q_n); stops at ||omega|| dt / 2 >= pi/2",
+        contact_contract: "the contact torque of the start-of-step configuration",
         kick_drift_kick: false,
     };
 
