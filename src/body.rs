@@ -79,7 +79,7 @@ impl Inertia {
     /// one-stage rotator's arithmetic.
     #[inline]
     pub fn angular_acceleration_world(&self, q: DQuat, omega_b: DVec3, torque_w: DVec3) -> DVec3 {
-        let torque_b = if torque_w == DVec3::ZERO {
+        let torque_b = if crate::math::is_zero(torque_w) {
             DVec3::ZERO
         } else {
             crate::math::to_body(q, torque_w)

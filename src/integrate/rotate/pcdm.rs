@@ -19,7 +19,7 @@
 
 use super::{Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};
-use crate::math::{exp_map, to_body, to_world};
+use crate::math::{exp_map, is_zero, to_body, to_world};
 use glam::DVec3;
 
 /// PCDM with the mid-step torque at `t_n + δt/2`.
@@ -74,7 +74,7 @@ impl<const MID: bool> Rotator for PcdmScheme<MID> {
         let tau_half = torque(t_half);
         // The torque in the predicted frame q'; q' itself is formed only when
         // there is a torque to rotate (most free DEM bodies have none).
-        let tau_half_b = if tau_half == DVec3::ZERO {
+        let tau_half_b = if is_zero(tau_half) {
             DVec3::ZERO
         } else {
             to_body(q * e, tau_half)
