@@ -2,16 +2,12 @@
 //! value computed here from its closed form (SPEC §2, §3, §8), not from the
 //! library's functions.
 
-use std::f64::consts::PI;
-use std::process::{Command, Output};
+mod common;
+use common::fibresim;
 
-fn fibresim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fibresim"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("binary runs")
-}
+use std::f64::consts::PI;
+use std::process::Output;
+
 
 fn stdout(o: &Output) -> String {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

@@ -1,15 +1,11 @@
 //! The `fibresim` binary: output files, cadence, determinism, errors and exit codes.
 
-use std::path::Path;
-use std::process::{Command, Output};
+mod common;
+use common::fibresim;
 
-fn fibresim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fibresim"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("binary runs")
-}
+use std::path::Path;
+use std::process::Output;
+
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()

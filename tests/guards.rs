@@ -4,20 +4,13 @@
 //! rotators, so it is checked on a `World` directly.
 
 mod common;
+use common::fibresim;
 
 use fibresim::error::Diagnosis;
 use fibresim::integrate::rotate::Frozen;
 use fibresim::integrate::step::{World, QUAT_NORM_TOLERANCE};
 use std::path::Path;
-use std::process::{Command, Output};
 
-fn fibresim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fibresim"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("binary runs")
-}
 
 fn read(p: &Path) -> String {
     std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))

@@ -2,16 +2,12 @@
 //! T followed by a resumed run to 2T, with contacts, with a prescribed torque,
 //! and after a real SIGINT.
 
+mod common;
+use common::fibresim;
+
 use std::path::Path;
 use std::process::{Command, Output};
 
-fn fibresim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fibresim"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("binary runs")
-}
 
 fn ok(o: Output) {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

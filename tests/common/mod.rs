@@ -5,6 +5,16 @@ use fibresim::body::BodyState;
 use fibresim::integrate::rotate::RotatorKind;
 use fibresim::math::geodesic_angle;
 use fibresim::scenario::{self, Scene};
+use std::process::{Command, Output};
+
+/// Run the `fibresim` binary from the crate root.
+pub fn fibresim(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_fibresim"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("binary runs")
+}
 
 pub fn scene_file(name: &str) -> Scene {
     let path = format!("{}/scenarios/{name}", env!("CARGO_MANIFEST_DIR"));
