@@ -29,14 +29,14 @@ fn test_case_3_against_closed_form() {
     assert!((x_ref.x - 0.2934440).abs() < 5e-8, "{x_ref}");
     assert!((x_ref.x - 0.2934253).abs() < 2.5e-5 && (x_ref.z + 0.955982).abs() < 1e-5);
 
-    println!("rotator     angle err (rad)   x-error (%)");
+    println!("rotator     angle err (rad)   x-error (%)   x");
     let mut errs = std::collections::BTreeMap::new();
     for kind in RotatorKind::ALL {
         let s = final_state(&scene, kind, 1e-4);
         let ang = geodesic_angle(s.rot.q, q_ref);
         let x = s.rot.q * DVec3::X;
         let xerr = ((x.x - x_ref.x) / x_ref.x).abs() * 100.0;
-        println!("{:<11} {ang:<17.3e} {xerr:.4}", kind.name());
+        println!("{:<11} {ang:<17.3e} {xerr:<13.4} {:.7}", kind.name(), x.x);
         errs.insert(kind, (ang, xerr));
     }
     // Done-when of issue 2: pcdm (mid-step torque) within 1e-6 rad.
