@@ -71,20 +71,11 @@ impl Inertia {
     }
 
     /// Eq. 4 with a world-frame torque `τ_w` at orientation `q`:
-    /// `dω_b/dt = I⁻¹ (q* τ_w q − ω_b × I ω_b)`.
-    ///
-    /// A zero torque skips the rotation into the body frame (`q* 0 q = 0`
-    /// exactly, so the result is the same): in a contact scene most bodies
-    /// are free most of the time, and the rotation is a quarter of a
-    /// one-stage rotator's arithmetic.
+    /// `dω_b/dt = I⁻¹ (q* τ_w q − ω_b × I ω_b)` (a zero torque is not rotated,
+    /// see [`crate::math::torque_to_body`]).
     #[inline]
     pub fn angular_acceleration_world(&self, q: DQuat, omega_b: DVec3, torque_w: DVec3) -> DVec3 {
-        let torque_b = if crate::math::is_zero(torque_w) {
-            DVec3::ZERO
-        } else {
-            crate::math::to_body(q, torque_w)
-        };
-        self.angular_acceleration(omega_b, torque_b)
+        self.angular_acceleration(omega_b, crate::math::torque_to_body(q, torque_w))
     }
 
     /// Rotational kinetic energy `½ ω_b · I ω_b`.

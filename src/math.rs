@@ -45,6 +45,17 @@ pub fn to_body(q: DQuat, v_world: DVec3) -> DVec3 {
     to_world(q.conjugate(), v_world)
 }
 
+/// A world torque in the body frame of `q`, `q* τ q`. A zero torque (a free
+/// body: most of a DEM run) skips the rotation, which gives the same zero.
+#[inline]
+pub fn torque_to_body(q: DQuat, torque_w: DVec3) -> DVec3 {
+    if is_zero(torque_w) {
+        DVec3::ZERO
+    } else {
+        to_body(q, torque_w)
+    }
+}
+
 /// The body x axis (a fibre's symmetry axis) in the world, `q eₓ q*`: the
 /// first column of the rotation matrix of a unit `q`.
 #[inline]

@@ -8,7 +8,6 @@ use common::fibresim;
 use std::f64::consts::PI;
 use std::process::Output;
 
-
 fn stdout(o: &Output) -> String {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     String::from_utf8_lossy(&o.stdout).into_owned()

@@ -11,7 +11,6 @@ use fibresim::integrate::rotate::Frozen;
 use fibresim::integrate::step::{World, QUAT_NORM_TOLERANCE};
 use std::path::Path;
 
-
 fn read(p: &Path) -> String {
     std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }

@@ -8,7 +8,6 @@ use common::fibresim;
 use std::path::Path;
 use std::process::{Command, Output};
 
-
 fn ok(o: Output) {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }

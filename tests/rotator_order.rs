@@ -122,7 +122,10 @@ fn orders_on_test_case_4() {
 #[test]
 fn leapfrog_is_second_order_on_a_sphere() {
     let scene = scene_file("torque_sphere.toml");
-    let closed = scene.reference.clone().expect("tc3 declares its closed form");
+    let closed = scene
+        .reference
+        .clone()
+        .expect("tc3 declares its closed form");
     let q_ref = closed.orientation(scene.sim.t_end(), scene.initial[0].rot.q);
     let dts = [1e-3, 5e-4, 2.5e-4, 1.25e-4];
     let errs: Vec<f64> = dts

@@ -18,7 +18,7 @@
 
 use super::{Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};
-use crate::math::{to_body, to_world};
+use crate::math::{to_body, to_world, torque_to_body};
 use glam::{DQuat, DVec3};
 
 pub struct Leapfrog;
@@ -45,8 +45,10 @@ impl Rotator for Leapfrog {
         dt: f64,
     ) -> Result<(), RotatorFault> {
         let q = rot.q;
-        let l_half = to_world(q, inertia.principal * rot.omega_b) + (0.5 * dt) * torque(t_n);
-        let omega_half = to_world(q, inertia.inverse * to_body(q, l_half));
+        // Steps 1–2 in q_n's body frame, where `q_n* L q_n = I ω_b + (δt/2) q_n* τ q_n`.
+        let l_half_b =
+            inertia.principal * rot.omega_b + (0.5 * dt) * torque_to_body(q, torque(t_n));
+        let omega_half = to_world(q, inertia.inverse * l_half_b);
         let b = (0.25 * dt) * omega_half;
         let beta = DQuat::from_xyzw(b.x, b.y, b.z, 1.0);
         let cayley = (beta * beta) * (1.0 / beta.length_squared());
@@ -54,7 +56,7 @@ impl Rotator for Leapfrog {
         let q_new = (cayley * q).normalize();
         rot.q = q_new;
         // Hold L_{n+½} in the new body frame until `finish`.
-        rot.omega_b = inertia.inverse * to_body(q_new, l_half);
+        rot.omega_b = inertia.inverse * to_body(q_new, to_world(q, l_half_b));
         Ok(())
     }
 
@@ -67,7 +69,7 @@ impl Rotator for Leapfrog {
         dt: f64,
     ) {
         let q = rot.q;
-        let tau_b = to_body(q, torque(t_next));
+        let tau_b = torque_to_body(q, torque(t_next));
         rot.omega_b += (0.5 * dt) * inertia.inverse * tau_b;
     }
 }

@@ -73,7 +73,7 @@ impl<const MID: bool> Rotator for PcdmScheme<MID> {
         let t_half = if MID { t_n + 0.5 * dt } else { t_n };
         let tau_half = torque(t_half);
         // The torque in the predicted frame q'; q' itself is formed only when
-        // there is a torque to rotate (most free DEM bodies have none).
+        // there is a torque to rotate (as in `math::torque_to_body`).
         let tau_half_b = if is_zero(tau_half) {
             DVec3::ZERO
         } else {
