@@ -18,6 +18,10 @@ use fibresim::output::Checkpoint;
 use fibresim::with_rotator;
 use glam::{DQuat, DVec3};
 
+/// Poses whose gradient mismatch exceeds this are printed in full (to paste
+/// into a regression test).
+const DUMP_ABOVE: f64 = 1e-3;
+
 type Kernel<'a> = &'a dyn Fn(&FibreGeom, &mut Vec<ContactPoint>);
 
 /// Potential, force and torque on `a` from one kernel.
@@ -122,6 +126,9 @@ fn main() {
                 {
                     let sin = gi.axis.cross(gj.axis).length();
                     println!("  {i}-{j}: {k} points, U {u:.3e} J, |sin| {sin:.4}, worst gradient mismatch {worst:.1e}");
+                    if worst > DUMP_ABOVE {
+                        println!("    A = {gi:?}\n    B = {gj:?}");
+                    }
                 }
             }
             if let Some(wl) = &scene.walls {
@@ -132,6 +139,9 @@ fn main() {
                         audit(&gi, &law, &|a, out| contact_fibre_wall(a, wall, out))
                     {
                         println!("  {i}-wall{k}: {m} points, U {u:.3e} J, worst gradient mismatch {worst:.1e}");
+                        if worst > DUMP_ABOVE {
+                            println!("    fibre = {gi:?}\n    wall = {wall:?}");
+                        }
                     }
                 }
             }

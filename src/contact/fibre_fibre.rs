@@ -570,15 +570,20 @@ fn penetration(a: &FibreGeom, b: &FibreGeom, seeds: [DVec3; 2]) -> Cand {
     let (sb, _) = support(b, n);
     let (sa, _) = support(a, -n);
     // Use the support point of the body whose support is the more clearly
-    // unique. A support is degenerate at a face normal (|n·axis| = 1: the
+    // unique. A support is degenerate at a face normal (|n⊥axis| = 0: the
     // whole face) and on a side circle (n·axis = 0: a generator line). The
     // Newton searches land *near* such points, not on them, so a fixed
     // tolerance is not enough: a minimiser 4e-12 off a face normal made the
     // face's "unique" rim point arbitrary and the torque wrong (seen in test
     // case 2, end on end at 16°; `tests/contact_geometry.rs` keeps that pose).
+    // Both distances are measured as sines of angles: `1 − |n·axis|` (the
+    // old face measure) is quadratic in the angle, so a rim point 3.5e-5 rad
+    // off the face normal looked as degenerate (6e-10) as a minimiser
+    // exactly on the other body's side circle, and the midpoint of A's rim
+    // and B's far end was used (test case 2, t = 0.354567 s).
     let clarity = |f: &FibreGeom, d: DVec3| {
-        let na = d.dot(f.axis).abs();
-        na.min(1.0 - na)
+        let na = d.dot(f.axis);
+        na.abs().min((d - na * f.axis).length())
     };
     let (ca, cb) = (clarity(a, -n), clarity(b, n));
     let point = if ca.max(cb) < 1e-9 {
