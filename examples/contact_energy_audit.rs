@@ -150,4 +150,12 @@ fn main() {
             }
         }
     }
+    use fibresim::contact::fibre_fibre::{PARRY_CALLS, PARRY_REJECTS, PARRY_UNCONFIRMED};
+    use std::sync::atomic::Ordering::Relaxed;
+    println!(
+        "parry: {} calls, {} answers rejected, {} 'no contact' verdicts not confirmed",
+        PARRY_CALLS.load(Relaxed),
+        PARRY_REJECTS.load(Relaxed),
+        PARRY_UNCONFIRMED.load(Relaxed)
+    );
 }
