@@ -45,8 +45,10 @@
 //! * The penetration depth is a minimum over directions; where two local
 //!   minima tie (a corner that can escape sideways or axially) the depth
 //!   is continuous but its gradient, the force direction, switches: a
-//!   concave kink crossed in one step (in test case 2 with `leapfrog`,
-//!   ~1e-3 % of the energy at t = 1.38 s and 1.94 s).
+//!   concave kink crossed in one step (test case 2 with `leapfrog`: an
+//!   end-to-end corner of fibres 3 and 8 at t = 0.939801 s, escaping ⊥ one
+//!   axis or ⊥ the other, 1.46e-3 % of the energy, the whole of that run's
+//!   error).
 //! * In regime 2's axial escape (ends of a near-parallel pair overlapping
 //!   axially by less than twice the depth) these ties are smoothed over
 //!   1 µm ([`TIE_BAND`]); in regime 3 they are not.
