@@ -7,7 +7,8 @@
 //! fibresim run scenarios/nine_fibres.toml --t-end 1.2036 --checkpoint-every 12036000 --out /tmp/a
 //! cargo run --release --example contact_energy_audit -- /tmp/a/checkpoint.json 1.2040 200
 //! ```
-//! Arguments: checkpoint, end time, print every N steps.
+//! Arguments: checkpoint, end time, print every N steps, and optionally a
+//! step from which every contact's pose is printed in full.
 
 use fibresim::body::Shape;
 use fibresim::contact::stage::box_walls;
@@ -17,6 +18,10 @@ use fibresim::output::checkpoint::state_from_bits;
 use fibresim::output::Checkpoint;
 use fibresim::with_rotator;
 use glam::{DQuat, DVec3};
+
+/// Poses whose gradient mismatch exceeds this are printed in full (to paste
+/// into a regression test).
+const DUMP_ABOVE: f64 = 1e-3;
 
 type Kernel<'a> = &'a dyn Fn(&FibreGeom, &mut Vec<ContactPoint>);
 
@@ -68,6 +73,8 @@ fn main() {
     let c = Checkpoint::read(std::path::Path::new(&args[1])).expect("checkpoint");
     let until: f64 = args[2].parse().expect("end time");
     let every: u64 = args.get(3).map_or(200, |s| s.parse().expect("N"));
+    // Optional: print every contact's full pose from this step on.
+    let dump_from: u64 = args.get(4).map_or(u64::MAX, |s| s.parse().expect("step"));
     let scene = fibresim::run::scene_from_checkpoint(&c, Some(until)).expect("scene");
     let mut w = World::new(&scene);
     w.restore(
@@ -122,6 +129,9 @@ fn main() {
                 {
                     let sin = gi.axis.cross(gj.axis).length();
                     println!("  {i}-{j}: {k} points, U {u:.3e} J, |sin| {sin:.4}, worst gradient mismatch {worst:.1e}");
+                    if worst > DUMP_ABOVE || w.step >= dump_from {
+                        println!("    A = {gi:?}\n    B = {gj:?}");
+                    }
                 }
             }
             if let Some(wl) = &scene.walls {
@@ -132,9 +142,20 @@ fn main() {
                         audit(&gi, &law, &|a, out| contact_fibre_wall(a, wall, out))
                     {
                         println!("  {i}-wall{k}: {m} points, U {u:.3e} J, worst gradient mismatch {worst:.1e}");
+                        if worst > DUMP_ABOVE || w.step >= dump_from {
+                            println!("    fibre = {gi:?}\n    wall = {wall:?}");
+                        }
                     }
                 }
             }
         }
     }
+    use fibresim::contact::fibre_fibre::{PARRY_CALLS, PARRY_REJECTS, PARRY_UNCONFIRMED};
+    use std::sync::atomic::Ordering::Relaxed;
+    println!(
+        "parry: {} calls, {} answers rejected, {} 'no contact' verdicts not confirmed",
+        PARRY_CALLS.load(Relaxed),
+        PARRY_REJECTS.load(Relaxed),
+        PARRY_UNCONFIRMED.load(Relaxed)
+    );
 }

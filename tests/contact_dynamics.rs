@@ -94,12 +94,97 @@ fn head_on_collision_conserves_and_lasts_the_hertz_time() {
         );
         assert!((t_sim - t_c).abs() < 2e-3 * t_c, "{t_sim} vs {t_c}");
         assert!((p - p0).length() < 1e-15);
-        assert!((l - l0).length() < 1e-15);
-        // Central collision: nothing should spin.
+        // Centres, velocities and contact normal all lie on the x axis, so
+        // angular momentum is zero whatever happens (it is checked where it
+        // is not, in `off_centre_impact_conserves_momenta_and_energy`), and
+        // |l − l0| is printed only. Nothing may spin: a contact point placed
+        // off the line of centres would torque both fibres.
         assert!(w.states.iter().all(|st| st.rot.omega_b.length() < 1e-9));
         assert!(((e - e0) / e0).abs() < 1e-6);
         // Elastic: the fibres separate with the speeds they came in with.
         assert!((w.states[0].v.x + 1.0).abs() < 1e-6 && (w.states[1].v.x - 1.0).abs() < 1e-6);
+    }
+}
+
+/// Two free fibres crossed at 90° collide off centre (no walls, no gravity):
+/// A along y moving +x, B along z moving −x, B offset by (6, 4) mm so the
+/// contact is 6 mm from A's centre along A and 4 mm from B's along B. The
+/// angular momentum about the origin is m (0, −0.004, 0.006) kg m²/s and
+/// both fibres spin up. Conservation laws as references:
+/// * linear momentum: the stage applies equal and opposite forces, so it is
+///   conserved to rounding by every rotator;
+/// * angular momentum (orbital + spin `R I ω_b`): `leapfrog` kicks the
+///   world angular momentum by the same torques that balance the orbital
+///   change, so only rounding accumulates (measured |ΔL|/|L0| 8.9e-12,
+///   2.1e-11, 5.4e-11 at δt = 2e-7, 1e-7, 5e-8: ∝ number of steps); bound
+///   1e-9. `pcdm` integrates ω_b in the body frame from a predicted
+///   mid-step orientation: during the contact its spin is off by O(δt)
+///   (measured 5.2e-4, 2.6e-4, 1.3e-4), bound 5e-4 at δt = 1e-7; after
+///   separation it is back to rounding (≤ 1e-11), bound 1e-9;
+/// * energy after separation: `leapfrog` is symmetric with exact-gradient
+///   forces, so only a tiny residual remains (measured 7.8e-10), bound
+///   1e-8; `pcdm` takes the contact torque at the start of the step, an
+///   O(δt) error (measured 4.8e-4, 2.4e-4, 1.2e-4), bound 5e-4.
+#[test]
+fn off_centre_impact_conserves_momenta_and_energy() {
+    let s = scene(
+        "dt = 1e-7\nt_end = 0.012",
+        "",
+        &[
+            "position = [-0.0101, 0.0, 0.0]\naxis = [0.0, 1.0, 0.0]\nvelocity = [1.0, 0.0, 0.0]",
+            "position = [0.0101, 0.006, 0.004]\naxis = [0.0, 0.0, 1.0]\nvelocity = [-1.0, 0.0, 0.0]",
+        ],
+    );
+    // (rotator, |ΔL|/|L0| bound during and after the contact, |ΔE|/E0
+    // bound after separation)
+    for (kind, l_tol, l_tol_final, e_tol) in [
+        (RotatorKind::Leapfrog, 1e-9, 1e-9, 1e-8),
+        (RotatorKind::Pcdm, 5e-4, 1e-9, 5e-4),
+    ] {
+        let mut s = s.clone();
+        s.sim.rotator = kind;
+        let w0 = fibresim::integrate::step::World::new(&s);
+        let (p0, l0) = momentum(&s, &w0);
+        let m = s.bodies[0].mass;
+        assert!((l0 - m * DVec3::new(0.0, -0.004, 0.006)).length() < 1e-18);
+        let kinetic = |w: &fibresim::integrate::step::World| -> f64 {
+            s.bodies
+                .iter()
+                .zip(&w.states)
+                .map(|(b, st)| {
+                    0.5 * b.mass * st.v.length_squared() + b.inertia.kinetic_energy(st.rot.omega_b)
+                })
+                .sum()
+        };
+        let e0 = kinetic(&w0);
+        let (mut episodes, mut was_touching, mut worst_l) = (0, false, 0.0f64);
+        let w = integrate_observed(&s, |w| {
+            let touching = w.contact_stats().unwrap().touching > 0;
+            episodes += usize::from(touching && !was_touching);
+            was_touching = touching;
+            worst_l = worst_l.max((momentum(&s, w).1 - l0).length());
+        })
+        .unwrap();
+        let (p, l) = momentum(&s, &w);
+        let e = kinetic(&w);
+        let spins: Vec<f64> = w.states.iter().map(|st| st.rot.omega_b.length()).collect();
+        println!(
+            "{kind} off-centre: |dp| {:.1e}, max |dL|/|L0| {:.1e}, final {:.1e}, dE/E {:.1e}, spins {spins:.3?} rad/s",
+            (p - p0).length(),
+            worst_l / l0.length(),
+            (l - l0).length() / l0.length(),
+            (e - e0) / e0
+        );
+        assert_eq!(episodes, 1, "one contact, then apart");
+        assert!(!was_touching, "separated by the end");
+        assert!(spins.iter().all(|&w| w > 1.0), "both spin up: {spins:?}");
+        assert!((p - p0).length() < 1e-15 * p0.length().max(m));
+        assert!(worst_l < l_tol * l0.length(), "{kind}: {worst_l:e}");
+        assert!(
+            (l - l0).length() < l_tol_final * l0.length(),
+            "{kind}: {l:?}"
+        );
+        assert!(((e - e0) / e0).abs() < e_tol, "{kind}: {e} vs {e0}");
     }
 }
 
@@ -210,28 +295,83 @@ fn symmetric_drop_stays_symmetric() {
     assert!(worst < 1e-9, "{worst}");
 }
 
-/// Test case 1 over its first bounce (0.33 s, δt = 1e-7): the full-budget energy
-/// error stays below 0.2 %, the paper's Fig. 2 bound for all methods.
+/// Test case 1 over its first bounce (0.33 s), each rotator at δt = 4e-7
+/// and 8e-7, full-budget energy error. The bound is the measured order of
+/// each rotator, not the paper's Fig. 2 claim (0.2 % for all), which two of
+/// them fail (README, "Test cases 1 and 2"):
+/// * `euler`, `scalar`, `pcdm` take the contact torque of the configuration
+///   at the start of the step (SPEC §4), a local error ∝ δt in every step's
+///   angular impulse, so the error left after a bounce is ∝ δt: doubling δt
+///   doubles it (ratio 1.9–2.1; measured 2.00). PCDM's mid-step
+///   re-evaluation rotates the same stale torque and halves the error
+///   (ratio to `euler` 0.45–0.55; measured 0.50); `scalar` differs from
+///   `euler` only in its quaternion update (same error to 1e-6).
+/// * `leapfrog` and `frozen` are symmetric with forces that are the exact
+///   gradient of the potential: their energy error is O(δt²) while the
+///   contact is live (max over the window: ratio 3.5–4.5; measured 3.9,
+///   4.0) and returns to the rounding level after it (final < 1e-4 %;
+///   measured ≤ 2.5e-5 %, four orders below the one-stage rotators).
 #[test]
-fn test_case_1_first_bounce_energy_bounded() {
-    let mut s = scene_file("single_fibre.toml");
-    s.sim.steps = 3_300_000;
-    for kind in [RotatorKind::Pcdm, RotatorKind::Leapfrog] {
+fn test_case_1_first_bounce_energy_error_has_each_rotators_order() {
+    let base = scene_file("single_fibre.toml");
+    let run = |kind: RotatorKind, dt: f64| -> (f64, f64) {
+        let mut s = base.clone();
         s.sim.rotator = kind;
+        s.sim.dt = dt;
+        s.sim.steps = (0.33 / dt).round() as u64;
         let e = |w: &fibresim::integrate::step::World| {
             fibresim::energy::Ledger::measure(&s.bodies, &w.states, s.gravity, w.elastic)
                 .total_full()
         };
         let e0 = e(&fibresim::integrate::step::World::new(&s));
-        let mut worst: f64 = 0.0;
-        let mut contact = false;
-        integrate_observed(&s, |w| {
-            worst = worst.max(((e(w) - e0) / e0).abs() * 100.0);
+        let (mut worst, mut last, mut contact) = (0.0f64, 0.0, false);
+        let w = integrate_observed(&s, |w| {
+            last = ((e(w) - e0) / e0).abs() * 100.0;
+            worst = worst.max(last);
             contact |= w.contact_stats().unwrap().touching > 0;
         })
         .unwrap();
-        println!("test case 1, first bounce, {kind}: max full-budget error {worst:.3e} %");
-        assert!(contact);
-        assert!(worst < 0.2, "{kind}: {worst}");
+        assert!(
+            contact && w.contact_stats().unwrap().touching == 0,
+            "{kind}: one whole bounce"
+        );
+        (worst, last)
+    };
+    let (dt, dt2) = (4e-7, 8e-7);
+    let mut finals = std::collections::HashMap::new();
+    for kind in [
+        RotatorKind::Euler,
+        RotatorKind::Scalar,
+        RotatorKind::Pcdm,
+        RotatorKind::Leapfrog,
+        RotatorKind::Frozen,
+    ] {
+        let ((max1, fin1), (max2, fin2)) = (run(kind, dt), run(kind, dt2));
+        println!(
+            "test case 1, first bounce, {kind}: max {max1:.3e} / {max2:.3e} %, final {fin1:.3e} / {fin2:.3e} % at dt {dt:e} / {dt2:e}"
+        );
+        match kind {
+            RotatorKind::Euler | RotatorKind::Scalar | RotatorKind::Pcdm => {
+                let ratio = fin2 / fin1;
+                assert!((1.9..=2.1).contains(&ratio), "{kind}: ratio {ratio}");
+            }
+            _ => {
+                let ratio = max2 / max1;
+                assert!((3.5..=4.5).contains(&ratio), "{kind}: ratio {ratio}");
+                assert!(fin1 < 1e-4 && fin2 < 1e-4, "{kind}: {fin1} {fin2}");
+            }
+        }
+        finals.insert(kind.to_string(), fin1);
     }
+    let (euler, scalar, pcdm) = (finals["euler"], finals["scalar"], finals["pcdm"]);
+    assert!(
+        (pcdm / euler - 0.5).abs() < 0.05,
+        "pcdm/euler {}",
+        pcdm / euler
+    );
+    assert!(
+        (scalar / euler - 1.0).abs() < 1e-6,
+        "scalar/euler {}",
+        scalar / euler
+    );
 }

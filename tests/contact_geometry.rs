@@ -3,8 +3,8 @@
 //! reliable (half-space passed FIRST; side–side crossings away from the ends).
 
 use fibresim::contact::fibre_fibre::{
-    projection_overlap, segment_closest_params, COAXIAL_SIN, PARALLEL_BLEND_SIN, PARALLEL_SIN,
-    PARRY_CALLS, PARRY_REJECTS,
+    dome_sag, domed_projection_overlap, projection_overlap, segment_closest_params, COAXIAL_SIN,
+    END_FACE_DOME_SIN, PARALLEL_BLEND_SIN, PARALLEL_SIN, PARRY_CALLS, PARRY_REJECTS,
 };
 use fibresim::contact::fibre_wall::FACE_BLEND_SIN;
 use fibresim::contact::hertz::HERTZ_CONTACT_TIME_CONSTANT;
@@ -125,12 +125,44 @@ fn standing_on_end_face_loads_face_centre_without_torque() {
     // Application point on the axis: zero torque about the centre.
     let torque = (c[0].point - f.centre).cross(c[0].normal);
     assert!(torque.length() < 1e-15, "{torque:?}");
-    // Tiny tilt: point moves continuously (no jump to the rim).
-    let tilt = 1e-6;
-    let f2 = fib(f.centre, DVec3::new(tilt, 0.0, 1.0));
-    let c2 = wall_contacts(&f2, &floor());
-    let lateral = (c2[0].point - c[0].point).truncate().length();
-    assert!(lateral < 1e-3 * R, "point jumped by {lateral}");
+    // Tilted by s = sin(tilt): the model's closed form (fibre_wall module
+    // docs) puts the point at c + R g'(s) u, u = the in-plane rim direction
+    // facing the floor, g'(s) = x(4 − 3x), x = s/s0 below s0 and 1 above,
+    // with depth H cos − cz + R g(s), g = s0 x²(2 − x) below s0: it moves
+    // continuously from the face centre (no jump to the rim) and is the
+    // exact corner point from s0 on.
+    let s0 = FACE_BLEND_SIN;
+    for s in [
+        1e-7,
+        1e-6,
+        0.3 * s0,
+        2.0 * s0 / 3.0,
+        0.99 * s0,
+        s0,
+        3.0 * s0,
+    ] {
+        let axis = DVec3::new(s, 0.0, (1.0 - s * s).sqrt());
+        let f2 = fib(DVec3::new(0.3, -0.1, H - d0), axis);
+        let x: f64 = (s / s0).min(1.0);
+        let (g, dg) = if s < s0 {
+            (s0 * x * x * (2.0 - x), x * (4.0 - 3.0 * x))
+        } else {
+            (s, 1.0)
+        };
+        let c_low = f2.centre - H * axis;
+        let u = DVec3::new(axis.z, 0.0, -axis.x);
+        let depth = -c_low.z + R * g;
+        let c2 = wall_contacts(&f2, &floor());
+        assert_eq!(c2.len(), 1);
+        assert!(close(c2[0].overlap, depth, 1e-15), "s {s}: {c2:?}");
+        let p = c_low + R * dg * u + 0.5 * depth * DVec3::Z;
+        // 1e-14: the kernel's n⊥ = n − (n·a)a cancels for tiny tilts.
+        assert!(
+            vclose(c2[0].point, p, 1e-14),
+            "s {s}: {:?} vs {p:?}",
+            c2[0].point
+        );
+    }
 }
 
 #[test]
@@ -227,37 +259,108 @@ fn crossed_at_60_degrees() {
     crossed(60.0);
 }
 
+/// Fibre–fibre end faces are spherical caps of radius `Rd = R/sin θc`
+/// through the rim ([`END_FACE_DOME_SIN`]), sag `σ = Rd (1 − cos θc)`:
+/// `(Rd, σ)`, computed here from the definition.
+fn dome() -> (f64, f64) {
+    let s = END_FACE_DOME_SIN;
+    let rd = R / s;
+    (rd, rd * (1.0 - (1.0 - s * s).sqrt()))
+}
+
+/// Force and torque on `a` (about its centre) from the fibre–fibre kernel,
+/// and the potential.
+fn ff_wrench(law: &HertzLaw, a: &FibreGeom, b: &FibreGeom) -> (DVec3, DVec3, f64) {
+    let c = ff_contacts(a, b);
+    let (f, t) = wrench(law, &c, a.centre);
+    (f, t, potential(law, &c))
+}
+
 #[test]
 fn t_junction_end_face_on_side() {
-    // B horizontal along x; A vertical, its lower end face at z = R − δ0 over
-    // B's top generator. Closed form: overlap δ0 along +z (force on A).
+    // B along x; A vertical, its lower end face centre at height R − δ0
+    // over B's top generator (x = 1 mm). The face is a cap of radius Rd
+    // (centre cc = face centre + (Rd − σ) a, inside A), so the closed form
+    // is a sphere on B's cylinder: depth Rd + R − |cc⊥x|, normal along
+    // cc⊥x, force line through cc, torque about A's centre (cc − c_A) × F n.
+    // Untilted: depth δ0 + σ, normal +z, no torque. Tilted by up to θc/2
+    // about x (rolling across B) and about y (along B's generator): the
+    // exact flat-face depth has a cone point here (an end face lying on a
+    // generator), the cap gives a restoring torque ∝ tilt. Both checked
+    // against the closed form and against −∇U by central differences.
     let d0 = 5e-6;
+    let (rd, sag) = dome();
+    assert!(close(dome_sag(R), sag, 1e-18));
+    let law = HertzLaw::fibre_fibre(0.01, 5e7, 0.35, 0.01, 5e7, 0.35);
     let b = fib(DVec3::ZERO, DVec3::X);
-    let a = fib(DVec3::new(0.001, 0.0, R + H - d0), DVec3::Z);
+    let centre = DVec3::new(0.001, 0.0, R + H - d0);
+    let a = fib(centre, DVec3::Z);
     let c = ff_contacts(&a, &b);
     assert_eq!(c.len(), 1, "{c:?}");
-    assert!(close(c[0].overlap, d0, 1e-9), "{c:?}");
-    assert!(vclose(c[0].normal, DVec3::Z, 1e-6), "{c:?}");
+    assert!(close(c[0].overlap, d0 + sag, 1e-14), "{c:?}");
+    assert!(vclose(c[0].normal, DVec3::Z, 1e-12), "{c:?}");
+    let (_, t0, _) = ff_wrench(&law, &a, &b);
+    assert!(t0.length() < 1e-12, "{t0:?}");
     // Also with A's axis the other way round (face of the +end).
     let a2 = fib(a.centre, -DVec3::Z);
     let c2 = ff_contacts(&a2, &b);
     assert_eq!(c2.len(), 1);
-    assert!(close(c2[0].overlap, d0, 1e-9));
+    assert!(close(c2[0].overlap, d0 + sag, 1e-14));
+    let mut worst_closed: f64 = 0.0;
+    let mut worst_fd: f64 = 0.0;
+    for tilt_axis in [DVec3::X, DVec3::Y, DVec3::new(1.0, 1.0, 0.0).normalize()] {
+        for theta in [-5e-4f64, -1e-4, 2e-5, 3e-4, 5e-4] {
+            assert!(theta.abs() <= 0.5 * END_FACE_DOME_SIN);
+            let axis = DQuat::from_axis_angle(tilt_axis, theta) * DVec3::Z;
+            let a = fib(centre, axis);
+            let cc = centre - H * axis + (rd - sag) * axis;
+            let perp = DVec3::new(0.0, cc.y, cc.z);
+            let depth = rd + R - perp.length();
+            let n = perp.normalize();
+            let torque = (cc - centre).cross(law.force(depth) * n);
+            let c = ff_contacts(&a, &b);
+            assert_eq!(c.len(), 1, "{c:?}");
+            assert!(
+                close(c[0].overlap, depth, 1e-14),
+                "{} vs {depth}",
+                c[0].overlap
+            );
+            assert!(vclose(c[0].normal, n, 1e-10), "{:?} vs {n:?}", c[0].normal);
+            let (_, t, _) = ff_wrench(&law, &a, &b);
+            let scale = law.force(depth) * R;
+            worst_closed = worst_closed.max((t - torque).length() / scale);
+            worst_fd = worst_fd.max(gradient_error(&law, &a, 1e-10, 1e-10 / H, &|g| {
+                ff_contacts(g, &b)
+            }));
+            // Restoring: the torque turns A back towards upright.
+            if theta.abs() > 1e-5 {
+                assert!(t.dot(tilt_axis) * theta < 0.0, "{t:?} at {theta}");
+            }
+        }
+    }
+    println!("T-junction: torque vs closed form {worst_closed:.1e}, vs -grad U {worst_fd:.1e} (relative to F R)");
+    // Flat faces would give a bang-bang torque here: an error ~0.1–1 of F R.
+    assert!(worst_closed < 1e-6, "{worst_closed}");
+    // Central differences of a potential whose lever arm moves at Rd = 5 m
+    // per radian: truncation ~1e-5 at these steps (measured 8e-6).
+    assert!(worst_fd < 1e-4, "{worst_fd}");
 }
 
 #[test]
 fn coaxial_end_to_end() {
-    // Closed form: end faces overlap axially by δ0 (B's centre at 2H − δ0
-    // along the common axis) → one contact, overlap δ0, force on A along −axis,
+    // Closed form: flat end faces would overlap axially by δ0 (B's centre at
+    // 2H − δ0 along the common axis); the two caps (radius Rd, sag σ) meet
+    // apex to apex: one contact, overlap δ0 + 2σ, force on A along −axis,
     // applied on the axis. Axes X and Z are poses where parry itself is wrong.
     let d0 = 1e-6;
+    let (_, sag) = dome();
     for axis in [DVec3::X, DVec3::Z, DVec3::new(1.0, 2.0, 3.0).normalize()] {
         let a = fib(DVec3::new(0.1, 0.2, 0.3), axis);
         for baxis in [axis, -axis] {
             let b = fib(a.centre + (2.0 * H - d0) * axis, baxis);
             let c = ff_contacts(&a, &b);
             assert_eq!(c.len(), 1, "{c:?}");
-            assert!(close(c[0].overlap, d0, 1e-15), "{c:?}");
+            assert!(close(c[0].overlap, d0 + 2.0 * sag, 1e-15), "{c:?}");
             assert!(vclose(c[0].normal, -axis, 1e-15));
             let off_axis = (c[0].point - a.centre).cross(axis).length();
             assert!(off_axis < 1e-15, "{off_axis}");
@@ -551,9 +654,9 @@ fn fibre_wall_forces_are_gradient_of_potential() {
         checked += 1;
     }
     println!("fibre-wall energy consistency: {checked} poses, worst rel error {worst:.2e}");
-    // 1e-4: poses near a face lying flat on a side (face normal ⊥ the other
-    // axis) sit near the documented cone point; elsewhere ~1e-8.
-    assert!(worst < 1e-4, "worst {worst}");
+    // Measured 5e-9 (central-difference truncation and rounding); a torque
+    // at the wrong rim point would be off by O(1).
+    assert!(worst < 1e-6, "worst {worst}");
 }
 
 #[test]
@@ -663,11 +766,42 @@ fn hertz_contact_time_matches_numerical_integration() {
         println!("contact time m={m} v={v}: closed {t_ref:.9e}, numerical {t:.9e}, rel {rel:.1e}");
         assert!(rel.abs() < 1e-6, "rel {rel}");
     }
-    assert!(close(
-        HERTZ_CONTACT_TIME_CONSTANT,
-        2.868_265_699_195_331_5,
-        1e-15
-    ));
+}
+
+#[test]
+fn hertz_contact_time_constant_matches_quadrature() {
+    // Reference: the integral of hertz.rs's derivation, by composite
+    // Simpson, independent of the Beta function used there:
+    // I = ∫₀¹ (1 − x^{5/2})^{−1/2} dx; with x = 1 − y² the endpoint
+    // singularity goes away: I = ∫₀¹ 2y / √(1 − (1 − y²)^{5/2}) dy, the
+    // denominator evaluated as √(−expm1(2.5 ln(1 − y²))) (no cancellation
+    // at small y, where the integrand tends to 2/√2.5). The integrand is
+    // C² (a (1 − y)^{5/2} term at y = 1), so Simpson's error ~ h^{3.5}.
+    // Then C = 2 I (15/16)^{2/5}.
+    let f = |y: f64| {
+        if y == 0.0 {
+            2.0 / 2.5f64.sqrt()
+        } else {
+            2.0 * y / (-(2.5 * (-y * y).ln_1p()).exp_m1()).sqrt()
+        }
+    };
+    let n = 200_000;
+    let h = 1.0 / n as f64;
+    let mut sum = f(0.0) + f(1.0);
+    for i in 1..n {
+        sum += if i % 2 == 1 { 4.0 } else { 2.0 } * f(i as f64 * h);
+    }
+    let integral = sum * h / 3.0;
+    let c = 2.0 * integral * (15.0f64 / 16.0).powf(0.4);
+    println!("Hertz time constant: quadrature {c:.16}, const {HERTZ_CONTACT_TIME_CONSTANT:.16}");
+    assert!(
+        (integral - 1.471_637_592_162_352_3).abs() < 1e-12,
+        "{integral}"
+    );
+    assert!(
+        (c - HERTZ_CONTACT_TIME_CONSTANT).abs() < 1e-12 * c,
+        "{c} vs {HERTZ_CONTACT_TIME_CONSTANT}"
+    );
 }
 
 // -------------------------------------------------------------- broad phase
@@ -757,27 +891,34 @@ fn end_involved_poses(count: usize, seed: u64) -> Vec<(FibreGeom, FibreGeom)> {
 }
 
 #[test]
-fn end_involved_depth_is_exact_min_projection_overlap() {
+fn end_involved_depth_is_min_of_domed_projection_overlap() {
     // Oracle: for convex bodies the penetration depth is min over unit n of
-    // the projection overlap h_B(n) + h_A(−n) (closed-form cylinder support
-    // functions); a 2-level grid search around our normal must not find a
-    // smaller value, and our depth must equal the overlap along our normal.
-    // parry's own depth is compared and its worst error printed.
+    // the projection overlap h_B(n) + h_A(−n); regime 3's bodies are the
+    // cylinders with domed end faces (END_FACE_DOME_SIN), whose support
+    // exceeds the exact one (closed form) by at most the sag σ. A 2-level
+    // grid search around our normal must not find a smaller domed overlap,
+    // our depth must equal the domed overlap along our normal, and it must
+    // lie within [exact overlap along n, exact + 2σ]. (An independent
+    // global oracle is in tests/contact_oracle.rs.) parry's own depth is
+    // compared and its worst difference printed.
     let poses = end_involved_poses(300, 99);
     let rejects0 = PARRY_REJECTS.load(Ordering::Relaxed);
+    let sag = dome_sag(R);
     let mut worst_parry = 0.0f64;
     for (a, b) in &poses {
         let c = ff_contacts(a, b);
         assert_eq!(c.len(), 1, "{a:?} {b:?} {c:?}");
         let (d, n) = (c[0].overlap, c[0].normal);
-        assert!((projection_overlap(a, b, n) - d).abs() < 1e-15);
+        assert!((domed_projection_overlap(a, b, n) - d).abs() < 1e-15);
+        let exact = projection_overlap(a, b, n);
+        assert!(exact <= d + 1e-15 && d <= exact + 2.0 * sag + 1e-15);
         let e1 = n.any_orthonormal_vector();
         let e2 = n.cross(e1);
         for scale in [1e-3, 1e-6] {
             for i in -10..=10 {
                 for j in -10..=10 {
                     let m = (n + (i as f64 * e1 + j as f64 * e2) * scale / 10.0).normalize();
-                    let p = projection_overlap(a, b, m);
+                    let p = domed_projection_overlap(a, b, m);
                     assert!(p >= d - 1e-14, "found {p} < {d} for {a:?} {b:?}");
                 }
             }
@@ -787,7 +928,7 @@ fn end_involved_depth_is_exact_min_projection_overlap() {
         }
     }
     println!(
-        "end-involved: {} poses, parry answers disagreeing by > 1% (rejected as depth): {}, worst |parry depth − exact| = {worst_parry:.2e} m",
+        "end-involved: {} poses, parry answers disagreeing by > 1% (rejected as depth): {}, worst |parry depth − ours| = {worst_parry:.2e} m",
         poses.len(),
         PARRY_REJECTS.load(Ordering::Relaxed) - rejects0
     );
@@ -823,9 +964,10 @@ fn end_involved_forces_are_gradient_of_potential() {
         n += 1;
     }
     println!("end-involved energy consistency: {n} poses, worst rel error {worst:.2e}");
-    // 1e-4: poses near a face lying flat on a side (face normal ⊥ the other
-    // axis) sit near the documented cone point; elsewhere ~1e-8.
-    assert!(worst < 1e-4, "worst {worst}");
+    // Measured 4e-6 (poses whose contact is on a domed face, where the lever
+    // arm moves at Rd = 5 m per radian, have the largest central-difference
+    // truncation); a torque at a wrong support point is off by O(1).
+    assert!(worst < 3e-5, "worst {worst}");
 }
 
 // ------------------------------------------------- continuity across regimes
@@ -863,14 +1005,32 @@ fn potential_is_continuous_across_regime_boundaries() {
             ),
         )
     });
-    // End-to-end pair, lateral offset 0 → 1.5 R (coaxial face model → side
-    // model with axial escape): the depth stays δ0.
-    let (lateral, u2) = max_step(2000, &|t| {
+    // End-to-end pair, lateral offset e = 0 → 1.5 R (near-coaxial regime →
+    // side model with axial escape at e = R): the flat faces would overlap
+    // by δ0 throughout; the domed faces (radius Rd, sag σ) touch cap on cap,
+    // closed form for two spheres: depth 2Rd − √((2Rd − 2σ − δ0)² + e²),
+    // one contact (checked at every sample, so also across e = R).
+    let lateral_family = |t: f64| {
         (
             fib(DVec3::ZERO, DVec3::X),
             fib(DVec3::new(2.0 * H - d0, t * 1.5 * R, 0.0), DVec3::X),
         )
-    });
+    };
+    let (rd, sag) = dome();
+    for i in 0..=300 {
+        let t = i as f64 / 300.0;
+        let (a, b) = lateral_family(t);
+        let e = t * 1.5 * R;
+        let depth = 2.0 * rd - ((2.0 * rd - 2.0 * sag - d0).powi(2) + e * e).sqrt();
+        let c = ff_contacts(&a, &b);
+        assert_eq!(c.len(), 1, "e = {e}: {c:?}");
+        assert!(
+            close(c[0].overlap, depth, 1e-13),
+            "e = {e}: {} vs {depth}",
+            c[0].overlap
+        );
+    }
+    let (lateral, u2) = max_step(2000, &lateral_family);
     // 60° crossing whose crossing point slides off A's end (side–side →
     // parry-seeded exact depth).
     let b60 = fib(DVec3::ZERO, DVec3::new(0.5, 0.0, 0.75f64.sqrt()));
@@ -888,7 +1048,9 @@ fn potential_is_continuous_across_regime_boundaries() {
     );
     assert!(u1 > 0.0 && u2 > 0.0 && u3 > 0.0);
     assert!(slide < 0.05, "sliding apart {slide}");
-    assert!(lateral < 1e-6, "lateral {lateral}");
+    // The depth moves by 2σ − (1.5R)²/(4Rd) over the family, ~1e-3 of it
+    // per sample.
+    assert!(lateral < 2e-3, "lateral {lateral}");
     assert!(slide_off < 0.05, "slide off {slide_off}");
 }
 

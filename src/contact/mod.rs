@@ -5,10 +5,12 @@
 //! `weight * F_hertz(overlap) * normal` acting at `point` (on B the opposite),
 //! and the stored energy is `weight * U_hertz(overlap)`.
 //!
-//! Load sharing (all weights are 1; each contact is its own Hertz point):
-//! * fibre–wall: one contact per end face whose lever arm moves smoothly
-//!   from the face centre (standing) to the deepest rim point (tilt ≥ 2°),
-//!   see [`fibre_wall`]; lying flat = two points, one per end.
+//! Load sharing (each contact is its own Hertz point, R* of SPEC §3 for all):
+//! * fibre–wall: one contact per end face, depth of its deepest rim point
+//!   with the rim term smoothed within 0.14° of upright, see [`fibre_wall`].
+//!   Standing on an end: one Hertz point at the face centre, the resultant
+//!   of a uniform face load (not a flat-punch law); tilted: the exact corner
+//!   point; lying flat: two points, one per end.
 //! * fibre–fibre side–side: potential `U(δ_main) + U(min(δ_lo, δ_hi))`,
 //!   one point at a crossing, two points at the ends of the overlap for a
 //!   parallel pair, see [`fibre_fibre`]. The second point fades out (and
@@ -16,12 +18,13 @@
 //!   interior) over |sin| ∈ [0.02, 0.035] with an orientation-dependent
 //!   weight; its gradient is the couple carried in
 //!   [`ContactPoint::weight_grad`].
-//! * fibre–fibre with an end: one point, exact depth `min_n` of the
-//!   projection overlap (face cone blended as for walls).
+//! * fibre–fibre with an end: one point, the penetration depth of the two
+//!   fibres with domed end faces (sag 2.5 µm), so a face on a side, rim or
+//!   face has a smooth lever arm.
 //!
 //! Every model is a potential whose exact gradient is the returned
 //! force/torque (checked by finite differences in the tests), except on
-//! documented measure-zero switching sets and across regime boundaries.
+//! documented measure-zero switching sets.
 
 pub mod broad;
 pub mod fibre_fibre;
@@ -62,6 +65,13 @@ pub struct Wall {
 /// One Hertz contact: force on A is `weight * F(overlap) * normal` at `point`,
 /// energy `weight * U(overlap)`.
 ///
+/// `normal` is `−∂overlap/∂x_A`, the gradient of the depth with respect to
+/// a translation of A: a unit vector for every geometric contact. The one
+/// exception is a depth whose gradient is not a force along a single line
+/// (the capped second contact of the fibre–fibre axial escape): it is
+/// emitted as two points of half the weight with non-unit `normal`s whose
+/// forces and torques sum to its exact gradient.
+///
 /// A weight that depends on the relative orientation of the two bodies (the
 /// fibre–fibre parallel blend, see [`fibre_fibre::PARALLEL_BLEND_SIN`])
 /// carries its gradient: the potential `weight·U(overlap)` then also exerts
@@ -71,7 +81,8 @@ pub struct Wall {
 pub struct ContactPoint {
     /// Application point (world), midway between the two surfaces.
     pub point: DVec3,
-    /// Unit direction of the force on body A.
+    /// Direction of the force on body A, `−∂overlap/∂x_A` (unit except for
+    /// the split contact described above).
     pub normal: DVec3,
     /// Overlap δ > 0 (m).
     pub overlap: f64,

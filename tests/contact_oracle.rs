@@ -1,0 +1,324 @@
+//! An oracle for end-involved fibre–fibre contacts that owes nothing to
+//! parry or to the kernel's own search (issue 3: "check every parry answer
+//! you keep"; parry's "no contact" verdict is otherwise unchecked).
+//!
+//! Reference: for convex bodies the penetration depth is the minimum over
+//! unit directions n of the projection overlap `h_B(n) + h_A(−n)`, and the
+//! separation distance is minus that minimum (separating-axis theorem).
+//! The support functions are written out again here from their closed
+//! forms (flat cylinder: `n·c + h|n·a| + r|n⊥|`; domed end faces of
+//! `END_FACE_DOME_SIN`: a spherical cap of radius `Rd = r/sin θc` through
+//! the rim), and the minimum is found globally by brute force: a dense
+//! Fibonacci grid on the sphere, dense samples of both side circles (where
+//! the support jumps between end rims), the face normals and the common
+//! normal, each of the best candidates polished by a derivative-free
+//! pattern search (24 directions, halving steps). Poses are placed with the
+//! oracle's own minimum-translation direction (moving B along it by t
+//! changes a convex pair's depth by exactly −t), not by bisection on parry.
+
+use fibresim::contact::fibre_fibre::{
+    segment_closest_params, END_FACE_DOME_SIN, PARRY_UNCONFIRMED,
+};
+use fibresim::contact::{contact_fibre_fibre, ContactPoint, FibreGeom};
+use glam::{DQuat, DVec3};
+use parry3d_f64::math::Pose;
+use parry3d_f64::query;
+use parry3d_f64::shape::Cylinder;
+use std::sync::atomic::Ordering;
+
+const R: f64 = 0.005;
+const H: f64 = 0.0125;
+
+fn fib(centre: DVec3, axis: DVec3) -> FibreGeom {
+    FibreGeom {
+        centre,
+        axis: axis.normalize(),
+        radius: R,
+        half_length: H,
+    }
+}
+
+/// xorshift64*, for reproducible poses.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn unit(&mut self) -> DVec3 {
+        let z = 2.0 * self.next() - 1.0;
+        let phi = std::f64::consts::TAU * self.next();
+        let s = (1.0 - z * z).sqrt();
+        DVec3::new(s * phi.cos(), s * phi.sin(), z)
+    }
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Body {
+    Flat,
+    Domed,
+}
+
+/// Closed-form support value of a fibre in the unit direction `n`.
+fn support(f: &FibreGeom, n: DVec3, body: Body) -> f64 {
+    let na = n.dot(f.axis);
+    let flat = n.dot(f.centre) + f.half_length * na.abs() + f.radius * (n - na * f.axis).length();
+    if body == Body::Flat {
+        return flat;
+    }
+    // Cap of radius Rd through the rim circle, centre on the axis inside
+    // the fibre at depth Rd − σ below the apex.
+    let sin_c = END_FACE_DOME_SIN;
+    let cos_c = (1.0 - sin_c * sin_c).sqrt();
+    if na.abs() < cos_c {
+        return flat;
+    }
+    let rd = f.radius / sin_c;
+    let sag = rd * (1.0 - cos_c);
+    let apex = f.centre + na.signum() * (f.half_length + sag) * f.axis;
+    n.dot(apex - na.signum() * rd * f.axis) + rd
+}
+
+fn overlap(a: &FibreGeom, b: &FibreGeom, n: DVec3, body: Body) -> f64 {
+    support(b, n, body) + support(a, -n, body)
+}
+
+/// Derivative-free local polish on the sphere.
+fn polish(a: &FibreGeom, b: &FibreGeom, body: Body, mut n: DVec3, mut v: f64) -> (f64, DVec3) {
+    let mut step = 0.02;
+    let mut turn = 0.0f64;
+    while step > 1e-13 {
+        let e1 = n.any_orthonormal_vector();
+        let e2 = n.cross(e1);
+        let mut moved = false;
+        for k in 0..24 {
+            let th = turn + k as f64 * std::f64::consts::TAU / 24.0;
+            let m = (n + step * (th.cos() * e1 + th.sin() * e2)).normalize();
+            let w = overlap(a, b, m, body);
+            if w < v {
+                (n, v) = (m, w);
+                moved = true;
+                break;
+            }
+        }
+        turn += 0.37;
+        if !moved {
+            step *= 0.5;
+        }
+    }
+    (v, n)
+}
+
+/// Same, restricted to the great circle ⊥ `u` through `n`.
+fn polish_circle(a: &FibreGeom, b: &FibreGeom, body: Body, u: DVec3, n: DVec3) -> (f64, DVec3) {
+    // (From a direction along u itself any point of the circle will do.)
+    let p = n - n.dot(u) * u;
+    let e1 = if p.length() > 1e-6 {
+        p.normalize()
+    } else {
+        u.any_orthonormal_vector()
+    };
+    let e2 = u.cross(e1);
+    let at = |t: f64| t.cos() * e1 + t.sin() * e2;
+    let (mut t, mut v) = (0.0, overlap(a, b, e1, body));
+    let mut step = 0.02;
+    while step > 1e-13 {
+        let (p, m) = (
+            overlap(a, b, at(t + step), body),
+            overlap(a, b, at(t - step), body),
+        );
+        if p < v && p <= m {
+            (t, v) = (t + step, p);
+        } else if m < v {
+            (t, v) = (t - step, m);
+        } else {
+            step *= 0.5;
+        }
+    }
+    (v, at(t))
+}
+
+/// Global minimum of the projection overlap: (value, direction of the
+/// force on A). Positive: penetration depth; negative: minus the distance.
+fn oracle(a: &FibreGeom, b: &FibreGeom, body: Body) -> (f64, DVec3) {
+    let mut cands: Vec<(f64, DVec3)> = Vec::new();
+    let mut add = |n: DVec3| {
+        let n = n.normalize();
+        if n.is_finite() {
+            cands.push((overlap(a, b, n, body), n));
+        }
+    };
+    let grid = 6000;
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    for i in 0..grid {
+        let z = 1.0 - 2.0 * (i as f64 + 0.5) / grid as f64;
+        let s = (1.0 - z * z).sqrt();
+        let phi = golden * i as f64;
+        add(DVec3::new(s * phi.cos(), s * phi.sin(), z));
+    }
+    for u in [a.axis, b.axis] {
+        let e1 = u.any_orthonormal_vector();
+        let e2 = u.cross(e1);
+        for i in 0..2000 {
+            let t = i as f64 * std::f64::consts::TAU / 2000.0;
+            add(t.cos() * e1 + t.sin() * e2);
+        }
+    }
+    let c = a.axis.cross(b.axis);
+    for d in [a.axis, b.axis, c, -a.axis, -b.axis, -c, a.centre - b.centre] {
+        add(d);
+    }
+    cands.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let mut best = cands[0];
+    for &(v, n) in cands.iter().take(12) {
+        for r in [polish(a, b, body, n, v)]
+            .into_iter()
+            .chain([a.axis, b.axis].map(|u| polish_circle(a, b, body, u, n)))
+        {
+            if r.0 < best.0 {
+                best = r;
+            }
+        }
+    }
+    // Feature points exactly (face normals; both side circles at once).
+    for d in [a.axis, b.axis, c, -a.axis, -b.axis, -c] {
+        let d = d.normalize();
+        if d.is_finite() {
+            let v = overlap(a, b, d, body);
+            if v < best.0 {
+                best = (v, d);
+            }
+        }
+    }
+    best
+}
+
+fn kernel(a: &FibreGeom, b: &FibreGeom) -> Vec<ContactPoint> {
+    let mut out = vec![];
+    contact_fibre_fibre(a, b, &mut out);
+    out
+}
+
+fn parry_says_contact(a: &FibreGeom, b: &FibreGeom) -> bool {
+    let pose =
+        |f: &FibreGeom| Pose::from_parts(f.centre, DQuat::from_rotation_arc(DVec3::Y, f.axis));
+    let cyl = |f: &FibreGeom| Cylinder::new(f.half_length, f.radius);
+    query::contact(&pose(a), &cyl(a), &pose(b), &cyl(b), 0.0)
+        .unwrap()
+        .is_some_and(|c| c.dist < 0.0)
+}
+
+/// Random pose with B's end region near A's, moved along the oracle's
+/// minimum-translation direction to the flat-cylinder depth `target`
+/// (negative: separated by −target).
+fn placed(rng: &mut Rng, ua: DVec3, ub: DVec3, target: f64) -> Option<(FibreGeom, FibreGeom)> {
+    let a = fib(DVec3::ZERO, ua);
+    let dir = rng.unit();
+    let b = fib(dir * (0.5 + 0.5 * rng.next()) * (2.0 * H + R), ub);
+    let (d0, n) = oracle(&a, &b, Body::Flat);
+    if d0 <= 1e-5 {
+        return None;
+    }
+    // n is the force on A (B → A): B moves along −n by d0 − target.
+    let b = fib(b.centre - (d0 - target) * n, ub);
+    let (s, t) = segment_closest_params(&a, &b);
+    let end_involved = !(s.abs() < H && t.abs() < H);
+    end_involved.then_some((a, b))
+}
+
+/// Regime 3 (end involved, |sin| > PARALLEL_SIN): the kernel's depth is the
+/// domed oracle's to 1e-10 m whenever either says "contact"; parry's
+/// verdict on the flat cylinders matches the flat oracle; the runtime guard
+/// confirms every "no contact" it sees.
+#[test]
+fn end_involved_contacts_match_brute_force_oracle() {
+    let mut rng = Rng(0x5eed_0bad_cafe_d00d);
+    let unconfirmed0 = PARRY_UNCONFIRMED.load(Ordering::Relaxed);
+    let sag = R / END_FACE_DOME_SIN * (1.0 - (1.0 - END_FACE_DOME_SIN.powi(2)).sqrt());
+    let (mut touching, mut separated, mut worst, mut parry_wrong) = (0, 0, 0.0f64, 0);
+    let mut tries = 0;
+    while touching + separated < 160 {
+        tries += 1;
+        assert!(tries < 20_000, "pose generator starved");
+        let (ua, ub) = (rng.unit(), rng.unit());
+        if ua.cross(ub).length() < 0.05 {
+            continue;
+        }
+        // Depths from well separated through the domes' margin (−2σ..0,
+        // where only the domes touch) to 50 µm.
+        let target = match rng.next() {
+            x if x < 0.2 => -2e-5 * rng.next(),
+            x if x < 0.4 => -2.0 * sag * rng.next(),
+            _ => 5e-5 * rng.next().powi(2),
+        };
+        let Some((a, b)) = placed(&mut rng, ua, ub, target) else {
+            continue;
+        };
+        let (flat, _) = oracle(&a, &b, Body::Flat);
+        let (domed, _) = oracle(&a, &b, Body::Domed);
+        // The oracle agrees with its own placement and with the dome bound.
+        assert!(
+            (flat - target).abs() < 1e-11,
+            "placement {flat} vs {target}"
+        );
+        assert!(flat - 1e-13 <= domed && domed <= flat + 2.0 * sag + 1e-13);
+        let c = kernel(&a, &b);
+        let ours = c.first().map_or(f64::NEG_INFINITY, |p| p.overlap);
+        if domed > 1e-10 || !c.is_empty() {
+            assert_eq!(c.len(), 1, "{a:?} {b:?} {c:?} oracle {domed}");
+            worst = worst.max((ours - domed).abs());
+            assert!(
+                (ours - domed).abs() < 1e-10,
+                "depth {ours} vs oracle {domed} (flat {flat}) for {a:?} {b:?}"
+            );
+            touching += 1;
+        } else {
+            separated += 1;
+        }
+        if (flat > 1e-9 && !parry_says_contact(&a, &b))
+            || (flat < -1e-9 && parry_says_contact(&a, &b))
+        {
+            parry_wrong += 1;
+        }
+    }
+    let unconfirmed = PARRY_UNCONFIRMED.load(Ordering::Relaxed) - unconfirmed0;
+    println!(
+        "oracle: {touching} touching, {separated} separated poses; worst |depth − oracle| {worst:.1e} m; parry verdicts wrong: {parry_wrong}; unconfirmed 'no contact': {unconfirmed}"
+    );
+    assert!(touching >= 80 && separated >= 30, "{touching} {separated}");
+    assert_eq!(parry_wrong, 0);
+    assert_eq!(unconfirmed, 0);
+}
+
+/// Regime 1 (near-coaxial end to end, no parry) against the same oracle:
+/// tilts below COAXIAL_SIN, lateral offsets up to R (the face centre over
+/// the other face), axial depths 0–20 µm.
+#[test]
+fn near_coaxial_contacts_match_brute_force_oracle() {
+    let mut rng = Rng(0x0c0a_c1a1_2024_0001);
+    let mut worst = 0.0f64;
+    let mut n = 0;
+    while n < 60 {
+        let ua = rng.unit();
+        let tilt = 0.019 * rng.next();
+        let ub = DQuat::from_axis_angle(ua.any_orthonormal_vector(), tilt)
+            * if rng.next() < 0.5 { ua } else { -ua };
+        let lateral = R * rng.next() * ua.cross(rng.unit()).normalize();
+        let a = fib(DVec3::ZERO, ua);
+        let b = fib(2.0 * H * ua + lateral, ub);
+        let (d0, nrm) = oracle(&a, &b, Body::Flat);
+        let target = 2e-5 * rng.next();
+        let b = fib(b.centre - (d0 - target) * nrm, ub);
+        let (domed, _) = oracle(&a, &b, Body::Domed);
+        let c = kernel(&a, &b);
+        if domed > 1e-10 {
+            assert_eq!(c.len(), 1, "{a:?} {b:?} {c:?} oracle {domed}");
+            worst = worst.max((c[0].overlap - domed).abs());
+            n += 1;
+        }
+    }
+    println!("near-coaxial oracle: {n} poses, worst |depth − oracle| {worst:.1e} m");
+    assert!(worst < 1e-10, "{worst}");
+}
