@@ -19,8 +19,21 @@
 //! translational estimate for test case 1's fibre. Both bounds err on the
 //! safe side. Scenes with a prescribed torque have no energy bound and get no
 //! contact advice.
+//!
+//! **Face tilt.** A fibre whose end face is (nearly) flat on a wall or on
+//! another fibre rocks on it: the face blend of the wall model and the domed
+//! end faces of the fibre model make the depth rise as `ρ θ²/2` with the
+//! tilt θ, so a normal force F gives the restoring torque `F (ρ − L/2) θ`
+//! about the centre of mass (frictionless: the centre does not move
+//! sideways), with `ρ = 4 r / s0` against a wall (`s0` =
+//! [`FACE_BLEND_SIN`]) and `ρ = r / sin θc` on a fibre's domed face (θc =
+//! [`END_FACE_DOME_SIN`]). The period `2π √(I_t / (F (ρ − L/2)))` at the
+//! peak Hertz force of the worst impact is often shorter than the collision
+//! itself, so it bounds δt too.
 
 use crate::body::{Body, Shape};
+use crate::contact::fibre_fibre::END_FACE_DOME_SIN;
+use crate::contact::fibre_wall::FACE_BLEND_SIN;
 use crate::contact::HertzLaw;
 use crate::scenario::Scene;
 
@@ -28,8 +41,11 @@ use crate::scenario::Scene;
 pub const STEPS_PER_COLLISION: f64 = 50.0;
 /// Fraction of the Rayleigh time at the recommended δt.
 pub const RAYLEIGH_FRACTION: f64 = 0.2;
-/// Fewer steps per collision than this is refused as bad input (the collision is
-/// not resolved at all), unless the user insists (`--allow-large-dt`).
+/// Steps per face-tilt period at the recommended δt.
+pub const STEPS_PER_TILT_PERIOD: f64 = 50.0;
+/// Fewer steps per collision (or per face-tilt period) than this is refused
+/// as bad input (the motion is not resolved at all), unless the user insists
+/// (`--allow-large-dt`).
 pub const MIN_STEPS_PER_COLLISION: f64 = 5.0;
 
 #[derive(Debug, Clone, serde::Serialize)]
@@ -43,6 +59,8 @@ pub struct PairAdvice {
     pub v_max: f64,
     pub contact_time: f64,
     pub rayleigh_time: f64,
+    /// Period of a face rocking on the contact at the peak force (module docs).
+    pub tilt_period: f64,
 }
 
 #[derive(Debug, Clone, serde::Serialize)]
@@ -92,6 +110,25 @@ pub fn min_effective_mass(b: &Body) -> (f64, f64) {
             (1.0 / (1.0 / b.mass + arm * arm / i_t), arm)
         }
         Shape::Sphere { .. } => (b.mass, 0.0),
+    }
+}
+
+/// Period of the face-tilt mode of fibre `b` (module docs) under the peak
+/// Hertz force of an impact of reduced mass `m` at speed `v`, on a face of
+/// curvature lever `rho`. Infinite for a sphere or when the mode is unstable.
+fn tilt_period(b: &Body, law: &HertzLaw, m: f64, v: f64, rho: f64) -> f64 {
+    let Shape::Fibre { length, .. } = b.shape else {
+        return f64::INFINITY;
+    };
+    // Energy balance ½ m v² = (2/5) k δ^{5/2} gives the deepest overlap.
+    let k = law.stiffness();
+    let depth = (1.25 * m * v * v / k).powf(0.4);
+    let force = k * depth * depth.sqrt();
+    let stiffness = force * (rho - 0.5 * length);
+    if stiffness > 0.0 {
+        2.0 * std::f64::consts::PI * (b.inertia.principal.y / stiffness).sqrt()
+    } else {
+        f64::INFINITY
     }
 }
 
@@ -155,6 +192,7 @@ pub fn advise(scene: &Scene) -> Advice {
         for &i in &kinds {
             let b = &scene.bodies[i];
             let law = HertzLaw::fibre_wall(diameter(b), b.young, b.poisson, w.young, w.poisson);
+            let rho = 4.0 * 0.5 * diameter(b) / FACE_BLEND_SIN;
             pairs.push(PairAdvice {
                 pair: format!("{}–wall", name(i)),
                 reduced_mass: m_eff(b),
@@ -162,6 +200,7 @@ pub fn advise(scene: &Scene) -> Advice {
                 v_max: v_max(b),
                 contact_time: law.contact_time(m_eff(b), v_max(b)),
                 rayleigh_time: rayleigh_time(b),
+                tilt_period: tilt_period(b, &law, m_eff(b), v_max(b), rho),
             });
         }
     }
@@ -201,6 +240,14 @@ pub fn advise(scene: &Scene) -> Advice {
                     v_max: v,
                     contact_time: law.contact_time(m, v),
                     rayleigh_time: rayleigh_time(a).min(rayleigh_time(b)),
+                    // Either fibre's face may rest on the other.
+                    tilt_period: [a, b]
+                        .map(|f| {
+                            let rho = 0.5 * diameter(f) / END_FACE_DOME_SIN;
+                            tilt_period(f, &law, m, v, rho)
+                        })
+                        .into_iter()
+                        .fold(f64::INFINITY, f64::min),
                 });
             }
         }
@@ -213,20 +260,30 @@ pub fn advise(scene: &Scene) -> Advice {
         .iter()
         .map(|p| p.rayleigh_time)
         .fold(f64::INFINITY, f64::min);
-    let recommended = (t_c / STEPS_PER_COLLISION).min(RAYLEIGH_FRACTION * t_r);
+    let t_tilt = pairs
+        .iter()
+        .map(|p| p.tilt_period)
+        .fold(f64::INFINITY, f64::min);
+    let recommended = (t_c / STEPS_PER_COLLISION)
+        .min(RAYLEIGH_FRACTION * t_r)
+        .min(t_tilt / STEPS_PER_TILT_PERIOD);
     let dt = scene.sim.dt;
     if dt > recommended {
         warnings.push(format!(
-            "dt = {dt:e} s is above the recommended {recommended:.3e} s (the shortest Hertz collision, {t_c:.3e} s, gets {:.1} steps; 0.2 x Rayleigh time = {:.3e} s)",
+            "dt = {dt:e} s is above the recommended {recommended:.3e} s (the shortest Hertz collision, {t_c:.3e} s, gets {:.1} steps; the fastest face tilt, {t_tilt:.3e} s, {:.1}; 0.2 x Rayleigh time = {:.3e} s)",
             t_c / dt,
+            t_tilt / dt,
             RAYLEIGH_FRACTION * t_r
         ));
     }
+    let unresolved = t_c.min(t_tilt);
     Advice {
         available_energy: e,
         pairs,
         recommended_dt: recommended.is_finite().then_some(recommended),
-        hard_limit_dt: t_c.is_finite().then_some(t_c / MIN_STEPS_PER_COLLISION),
+        hard_limit_dt: unresolved
+            .is_finite()
+            .then_some(unresolved / MIN_STEPS_PER_COLLISION),
         warnings,
     }
 }

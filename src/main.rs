@@ -140,25 +140,33 @@ fn cmd_check(args: CheckArgs) -> Result<()> {
         println!("\nimpact speeds bounded by energy conservation: E_avail = {:.4e} J (all of it into one body)", a.available_energy);
         println!("m* = effective mass at the worst contact point: 1/m_eff = 1/m + |r x n|^2 / I_transverse, lever arm");
         println!("  |r x n| = max(D/2, L/2) (a fibre's end hit along its side normal); a pair sums 1/m_eff of its bodies");
-        println!("  and their bounds v_max = sqrt(2 E_avail / m_eff); m_trans = the translational mass alone, for comparison");
+        println!("  and their bounds v_max = sqrt(2 E_avail / m_eff); m_trans = the translational mass alone, for comparison;");
+        println!("  t_tilt = period of an end face rocking on the contact under the peak force of that impact");
         println!(
-            "  {:<24} {:>11} {:>12} {:>11} {:>13} {:>14}",
-            "pair", "m* (kg)", "m_trans (kg)", "v_max (m/s)", "t_Hertz (s)", "t_Rayleigh (s)"
+            "  {:<24} {:>11} {:>12} {:>11} {:>13} {:>13} {:>14}",
+            "pair",
+            "m* (kg)",
+            "m_trans (kg)",
+            "v_max (m/s)",
+            "t_Hertz (s)",
+            "t_tilt (s)",
+            "t_Rayleigh (s)"
         );
         for p in &a.pairs {
             println!(
-                "  {:<24} {:>11.4e} {:>12.4e} {:>11.4e} {:>13.4e} {:>14.4e}",
+                "  {:<24} {:>11.4e} {:>12.4e} {:>11.4e} {:>13.4e} {:>13.4e} {:>14.4e}",
                 p.pair,
                 p.reduced_mass,
                 p.translational_mass,
                 p.v_max,
                 p.contact_time,
+                p.tilt_period,
                 p.rayleigh_time
             );
         }
     }
     match a.recommended_dt {
-        Some(r) => println!("\nrecommended dt <= {r:.3e} s (shortest collision / 50, and 0.2 x Rayleigh time); chosen dt = {:e} s, margin {:.3}x", scene.sim.dt, r / scene.sim.dt),
+        Some(r) => println!("\nrecommended dt <= {r:.3e} s (shortest collision / 50, fastest face tilt / 50, and 0.2 x Rayleigh time); chosen dt = {:e} s, margin {:.3}x", scene.sim.dt, r / scene.sim.dt),
         None => println!("\nno contacts to resolve: dt is limited by accuracy only (see `fibresim rotators` for orders)"),
     }
     for w in &a.warnings {
@@ -190,7 +198,7 @@ fn cmd_run(args: RunArgs) -> Result<()> {
                 &scene.source,
                 "simulation.dt",
                 format!(
-                    "dt = {:e} s leaves fewer than 5 steps for the shortest Hertz collision ({:.3e} s); use dt <= {:.3e} s (see `fibresim check`), or --allow-large-dt to run anyway",
+                    "dt = {:e} s leaves fewer than 5 steps for the shortest Hertz collision or face-tilt period ({:.3e} s); use dt <= {:.3e} s (see `fibresim check`), or --allow-large-dt to run anyway",
                     scene.sim.dt,
                     limit * 5.0,
                     advice.recommended_dt.unwrap_or(limit)

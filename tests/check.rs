@@ -116,6 +116,16 @@ fn hertz_time(m: f64, r: f64, e: f64, v: f64) -> f64 {
     hertz_constant() * (m * m / (r * e * e * v)).powf(0.2)
 }
 
+/// Face-tilt period on a wall (src/advice.rs docs): peak Hertz force
+/// `F = (4/3) E* √R* δ^{3/2}` with `δ = (15 m v² / (16 E* √R*))^{2/5}`, tilt
+/// stiffness `F (4 r / s0 − L/2)`, `s0 = 0.0025` (fibre_wall::FACE_BLEND_SIN).
+fn wall_tilt_period(f: &Fibre, m: f64, e: f64, v: f64) -> f64 {
+    let r = f.d / 2.0;
+    let depth = (15.0 * m * v * v / (16.0 * e * r.sqrt())).powf(0.4);
+    let force = 4.0 / 3.0 * e * r.sqrt() * depth.powf(1.5);
+    2.0 * PI * (f.inertia().1 / (force * (4.0 * r / 0.0025 - f.l / 2.0))).sqrt()
+}
+
 #[test]
 fn hertz_constant_matches_the_beta_function() {
     // (2/5) B(2/5, 1/2) = 1.4716375921623523 (src/contact/hertz.rs; Γ values
@@ -146,21 +156,25 @@ fn check_prints_mass_inertia_hertz_and_rayleigh_times() {
     let v = (2.0 * energy / m_eff).sqrt();
     let t_h = hertz_time(m_eff, f.d / 2.0, e_star(f.e, f.nu, 5e7, 0.23), v);
     let t_r = f.rayleigh();
+    let t_tilt = wall_tilt_period(&f, m_eff, e_star(f.e, f.nu, 5e7, 0.23), v);
     let row = numbers_after(line_with(&out, "fibre–wall"), "fibre–wall");
-    let [ms, mt, vmax, th, tr] = row[..] else {
+    let [ms, mt, vmax, th, tt, tr] = row[..] else {
         panic!("{row:?}")
     };
     close(ms, m_eff, "m*");
     close(mt, m, "m_trans");
     close(vmax, v, "v_max");
     close(th, t_h, "t_Hertz");
+    close(tt, t_tilt, "t_tilt");
     close(tr, t_r, "t_Rayleigh");
     assert!(
         out.contains("max(D/2, L/2)"),
         "the output says how m* is bounded"
     );
 
-    let rec = (t_h / 50.0).min(0.2 * t_r);
+    // The face tilt is the fastest motion here (1.2e-4 s against 3.1e-4 s).
+    let rec = (t_h / 50.0).min(0.2 * t_r).min(t_tilt / 50.0);
+    assert_eq!(rec, t_tilt / 50.0);
     let line = line_with(&out, "recommended dt <=");
     let printed = numbers_after(line, "recommended dt <= ")[0];
     assert!(
@@ -254,7 +268,8 @@ fn run_warns_above_the_recommended_dt() {
     let m_eff = f.worst_effective_mass();
     let v = (2.0 * f.mass() * 9.81 * 0.5 / m_eff).sqrt();
     let t_h = hertz_time(m_eff, f.d / 2.0, e_star(f.e, f.nu, 5e7, 0.23), v);
-    let rec = (t_h / 50.0).min(0.2 * f.rayleigh());
+    let t_tilt = wall_tilt_period(&f, m_eff, e_star(f.e, f.nu, 5e7, 0.23), v);
+    let rec = (t_h / 50.0).min(0.2 * f.rayleigh()).min(t_tilt / 50.0);
     let scene = "scenarios/single_fibre.toml";
     for (dt, warns) in [(1e-5, true), (2e-6, false)] {
         assert_eq!(dt > rec, warns, "rec = {rec:e}");
