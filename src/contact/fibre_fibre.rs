@@ -795,6 +795,22 @@ fn parry_contact(
     }))
 }
 
+/// Whether one of the cheap axes (closest-point normal, centre line, the two
+/// axes, their cross product) separates the two fibres by more than
+/// `margin` (the domes' sags): an exact proof of no contact.
+fn cheap_axis_separates(a: &FibreGeom, b: &FibreGeom, margin: f64, cp_normal: DVec3) -> bool {
+    let w = a.centre - b.centre;
+    [cp_normal, w, a.axis, b.axis, a.axis.cross(b.axis)]
+        .into_iter()
+        .any(|d| {
+            let l = d.length();
+            l > 1e-300 && l.is_finite() && {
+                let d = d / l;
+                projection_overlap(a, b, d).min(projection_overlap(a, b, -d)) < -margin
+            }
+        })
+}
+
 /// Runtime guard on parry's "no contact" verdict: true if a direction is
 /// found along which the exact projections are more than `margin` apart
 /// (proof that even the domed cylinders are separated: they exceed the
@@ -806,14 +822,8 @@ fn parry_contact(
 /// not a global proof of contact).
 fn confirm_separated(a: &FibreGeom, b: &FibreGeom, margin: f64, cp_normal: DVec3) -> bool {
     let w = a.centre - b.centre;
-    for d in [cp_normal, w, a.axis, b.axis, a.axis.cross(b.axis)] {
-        let l = d.length();
-        if l > 1e-300 && l.is_finite() {
-            let d = d / l;
-            if projection_overlap(a, b, d).min(projection_overlap(a, b, -d)) < -margin {
-                return true;
-            }
-        }
+    if cheap_axis_separates(a, b, margin, cp_normal) {
+        return true;
     }
     // Local searches on both side circles and on the smooth branches, from
     // each cheap axis (a separating direction of two fibres is typically
@@ -886,6 +896,12 @@ pub fn contact_fibre_fibre(a: &FibreGeom, b: &FibreGeom, out: &mut Vec<ContactPo
     //    of the projection overlap over the cylinders' feature manifolds.
     let cp = closest_point_contact(a, b, s, t);
     let margin = dome_sag(a.radius) + dome_sag(b.radius);
+    // A separating axis among the cheap candidates proves there is no
+    // contact without asking parry (most near misses of capsules: 3x fewer
+    // parry calls in test case 2).
+    if cheap_axis_separates(a, b, margin, cp.normal) {
+        return;
+    }
     let (parry_n, parry_ok) = match parry_contact(a, b, bound, margin) {
         Ok(None) => {
             confirm_separated(a, b, margin, cp.normal);
