@@ -35,7 +35,9 @@ impl Ledger {
         l
     }
 
-    /// Add one body's terms (`g` = 0 without gravity).
+    /// Add one body's terms (`g` = 0 without gravity). Every component of
+    /// `x`, `v` and `ω_b` enters, so a non-finite one makes the total
+    /// non-finite (the step's guards rely on it).
     #[inline]
     pub fn add_body(&mut self, b: &Body, s: &BodyState, g: DVec3) {
         self.gravity -= b.mass * g.dot(s.x);
