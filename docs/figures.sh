@@ -5,8 +5,7 @@
 #   docs/figures.sh              everything (test cases 1-2 take minutes)
 #   docs/figures.sh --skip-long  all but test cases 1 and 2
 #
-# Times are wall times on the shared 2-core machine (2026-11); they scale
-# with the contact and rotator performance other branches are changing.
+# Times are wall times on the shared 2-core machine (2026-12).
 # The study commands write to their default folders under out/ and print
 # their tables (the numbers in the README and docs/studies.md); this script
 # copies the figures into docs/figures/ under the names the README uses.
@@ -40,17 +39,6 @@ splice() {
   mv "$file.tmp" "$file"
 }
 
-# The README's test case 4 command relies on converge's default rotator
-# set being all seven schemes (issue 4: the work-precision figure shows
-# every rotator). Until src/cli.rs defaults to `all`, pass it explicitly
-# and say that the bare command does not reproduce the figures.
-tc4_rotators=()
-if ! "$fibresim" converge --help | grep -q 'default: all'; then
-  echo "WARNING: 'fibresim converge' does not default to --rotators all (src/cli.rs);" >&2
-  echo "         running test case 4 with --rotators all, which the bare README command does not" >&2
-  tc4_rotators=(--rotators all)
-fi
-
 # --- Stress suite and stability map: ~1 s (616 runs) -----------------------
 "$fibresim" stress --out out/stress -q
 cp out/stress/stability_map.png "$fig/stability_map.png"
@@ -70,7 +58,7 @@ cp out/torque_sphere/converge/convergence_x_error.png "$fig/tc3_convergence_x_er
 # figure (~4 s: each point timed alone, median of 3-5 repeats under 0.5 s).
 "$fibresim" compare scenarios/torque_fibre.toml
 cp out/torque_fibre/compare/angle_error_rk4.png "$fig/tc4_compare.png"
-"$fibresim" converge scenarios/torque_fibre.toml ${tc4_rotators[@]+"${tc4_rotators[@]}"}
+"$fibresim" converge scenarios/torque_fibre.toml # every scheme by default
 cp out/torque_fibre/converge/convergence.png "$fig/tc4_convergence.png"
 cp out/torque_fibre/converge/convergence_geodesic.png "$fig/tc4_convergence_geodesic.png"
 cp out/torque_fibre/converge/work_precision.png "$fig/tc4_work_precision.png"

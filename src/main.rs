@@ -169,6 +169,19 @@ fn cmd_check(args: CheckArgs) -> Result<()> {
         Some(r) => println!("\nrecommended dt <= {r:.3e} s (shortest collision / 50, fastest face tilt / 50, and 0.2 x Rayleigh time); chosen dt = {:e} s, margin {:.3}x", scene.sim.dt, r / scene.sim.dt),
         None => println!("\nno contacts to resolve: dt is limited by accuracy only (see `fibresim rotators` for orders)"),
     }
+    if a.recommended_dt.is_some() {
+        let i = scene.sim.rotator.info();
+        println!(
+            "note: the advice resolves the contact mechanics; the rotator's own error on contact torques comes on top. {}: {}.{}",
+            i.name,
+            i.contact_contract,
+            if i.kick_drift_kick {
+                ""
+            } else {
+                " That is first order in dt: its energy error per collision falls only like dt (README, test case 1; `fibresim stress` for stiff impacts)"
+            }
+        );
+    }
     for w in &a.warnings {
         println!("warning: {w}");
     }
