@@ -325,7 +325,10 @@ fn t_junction_end_face_on_side() {
                 "{} vs {depth}",
                 c[0].overlap
             );
-            assert!(vclose(c[0].normal, n, 1e-10), "{:?} vs {n:?}", c[0].normal);
+            // The minimiser of a depth ~1e-5 m whose curvature is ~Rd is
+            // defined to ~√(ulp/Rd) ≈ 6e-10 rad; which search reaches it
+            // (regime 3 searches from several starts) picks the digits.
+            assert!(vclose(c[0].normal, n, 2e-9), "{:?} vs {n:?}", c[0].normal);
             let (_, t, _) = ff_wrench(&law, &a, &b);
             let scale = law.force(depth) * R;
             worst_closed = worst_closed.max((t - torque).length() / scale);
