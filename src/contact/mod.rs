@@ -20,7 +20,9 @@
 //!   [`ContactPoint::weight_grad`].
 //! * fibre–fibre with an end: one point, the penetration depth of the two
 //!   fibres with domed end faces (sag 2.5 µm), so a face on a side, rim or
-//!   face has a smooth lever arm.
+//!   face has a smooth lever arm; where two local minima of that depth tie
+//!   (two escape directions, within 10 µm), two points whose weights are the
+//!   derivatives of a C² smooth minimum (they sum to 1).
 //!
 //! Every model is a potential whose exact gradient is the returned
 //! force/torque (checked by finite differences in the tests), except on
