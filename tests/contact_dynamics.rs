@@ -8,15 +8,6 @@ use fibresim::run::integrate_observed;
 use fibresim::scenario::Scene;
 use glam::DVec3;
 
-const FIBRE: &str = r#"
-shape = "fibre"
-diameter = 0.01
-length = 0.025
-density = 1100.0
-young = 5e7
-poisson = 0.35
-"#;
-
 fn scene(sim: &str, extra: &str, bodies: &[&str]) -> Scene {
     let mut t = format!("[simulation]\n{sim}\n{extra}\n");
     for b in bodies {

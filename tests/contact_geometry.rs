@@ -2,6 +2,9 @@
 //! form (derived in the comment) or parry3d-f64 used as an oracle where it is
 //! reliable (half-space passed FIRST; side–side crossings away from the ends).
 
+mod common;
+use common::{fib, H, R};
+
 use fibresim::contact::fibre_fibre::{
     dome_sag, domed_projection_overlap, projection_overlap, segment_closest_params, COAXIAL_SIN,
     END_FACE_DOME_SIN, PARALLEL_BLEND_SIN, PARALLEL_SIN, PARRY_CALLS, PARRY_REJECTS,
@@ -20,19 +23,6 @@ use proptest::prelude::*;
 use proptest::test_runner::{Config, TestRunner};
 use std::cell::Cell;
 use std::sync::atomic::Ordering;
-
-// The paper's fibre: D = 0.01 m, L = 0.025 m.
-const R: f64 = 0.005;
-const H: f64 = 0.0125;
-
-fn fib(centre: DVec3, axis: DVec3) -> FibreGeom {
-    FibreGeom {
-        centre,
-        axis: axis.normalize(),
-        radius: R,
-        half_length: H,
-    }
-}
 
 fn floor() -> Wall {
     Wall {

@@ -16,6 +16,9 @@
 //! oracle's own minimum-translation direction (moving B along it by t
 //! changes a convex pair's depth by exactly −t), not by bisection on parry.
 
+mod common;
+use common::{fib, H, R};
+
 use fibresim::contact::fibre_fibre::{
     segment_closest_params, END_FACE_DOME_SIN, PARRY_UNCONFIRMED,
 };
@@ -25,18 +28,6 @@ use parry3d_f64::math::Pose;
 use parry3d_f64::query;
 use parry3d_f64::shape::Cylinder;
 use std::sync::atomic::Ordering;
-
-const R: f64 = 0.005;
-const H: f64 = 0.0125;
-
-fn fib(centre: DVec3, axis: DVec3) -> FibreGeom {
-    FibreGeom {
-        centre,
-        axis: axis.normalize(),
-        radius: R,
-        half_length: H,
-    }
-}
 
 /// xorshift64*, for reproducible poses.
 struct Rng(u64);

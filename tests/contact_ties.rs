@@ -16,15 +16,6 @@ use fibresim::integrate::step::World;
 use fibresim::with_rotator;
 use glam::{DQuat, DVec3};
 
-const FIBRE: &str = r#"
-shape = "fibre"
-diameter = 0.01
-length = 0.025
-density = 1100.0
-young = 5e7
-poisson = 0.35
-"#;
-
 /// A body's state, as the scenario file gives it.
 struct Start {
     position: [f64; 3],

@@ -2,9 +2,11 @@
 #![allow(dead_code)]
 
 use fibresim::body::BodyState;
+use fibresim::contact::FibreGeom;
 use fibresim::integrate::rotate::RotatorKind;
 use fibresim::math::geodesic_angle;
 use fibresim::scenario::{self, Scene};
+use glam::DVec3;
 use std::process::{Command, Output};
 
 /// Run the `fibresim` binary from the crate root.
@@ -45,3 +47,27 @@ pub fn fitted_order(dts: &[f64], errs: &[f64]) -> f64 {
 pub fn angle_error(a: &BodyState, b: &BodyState) -> f64 {
     geodesic_angle(a.rot.q, b.rot.q)
 }
+
+/// Test case 1's fibre (SPEC §6): D = 0.01 m, L = 0.025 m, radius and half length.
+pub const R: f64 = 0.005;
+pub const H: f64 = 0.0125;
+
+/// Test case 1's fibre at `centre` along `axis` (normalised), as the kernels see it.
+pub fn fib(centre: DVec3, axis: DVec3) -> FibreGeom {
+    FibreGeom {
+        centre,
+        axis: axis.normalize(),
+        radius: R,
+        half_length: H,
+    }
+}
+
+/// Test case 1's fibre material and shape, as scenario keys (SPEC §6).
+pub const FIBRE: &str = r#"
+shape = "fibre"
+diameter = 0.01
+length = 0.025
+density = 1100.0
+young = 5e7
+poisson = 0.35
+"#;
