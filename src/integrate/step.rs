@@ -12,6 +12,7 @@ use crate::contact::stage::{ContactStage, ContactStats};
 use crate::energy::{error_pct, Ledger};
 use crate::error::Diagnosis;
 use crate::scenario::Scene;
+use crate::torque::PrescribedTorque;
 use glam::DVec3;
 use std::time::Instant;
 
@@ -141,9 +142,14 @@ impl<'s> World<'s> {
             self.states.iter_mut().zip(bodies).zip(loads).enumerate()
         {
             verlet::kick_drift(&mut s.x, &mut s.v, f * body.inv_mass + g, dt);
-            let torque = |t: f64| prescribed.as_ref().map_or(DVec3::ZERO, |p| p.at(t)) + contact;
-            R::advance(&mut s.rot, &body.inertia, torque, t_n, dt)
-                .map_err(|fault| Box::new(fault_diagnosis(fault, i, self.step, t_n)))?;
+            R::advance(
+                &mut s.rot,
+                &body.inertia,
+                torque_source(prescribed, contact),
+                t_n,
+                dt,
+            )
+            .map_err(|fault| Box::new(fault_diagnosis(fault, i, self.step, t_n)))?;
         }
 
         // Stage 3: forces at the new configuration.
@@ -165,8 +171,7 @@ impl<'s> World<'s> {
         {
             verlet::kick(&mut s.v, f * body.inv_mass + g, dt);
             if R::INFO.kick_drift_kick {
-                let torque =
-                    |t: f64| prescribed.as_ref().map_or(DVec3::ZERO, |p| p.at(t)) + contact;
+                let torque = torque_source(prescribed, contact);
                 R::finish(&mut s.rot, &body.inertia, torque, t_next, dt);
             }
             ledger.add_body(body, s, g);
@@ -314,6 +319,16 @@ fn body_is_sound(s: &BodyState) -> bool {
     const NORM2_LO: f64 = (1.0 - QUAT_NORM_TOLERANCE) * (1.0 - QUAT_NORM_TOLERANCE);
     const NORM2_HI: f64 = (1.0 + QUAT_NORM_TOLERANCE) * (1.0 + QUAT_NORM_TOLERANCE);
     (NORM2_LO..=NORM2_HI).contains(&s.rot.q.length_squared())
+}
+
+/// The torque a rotator asks for at time `t`: the body's prescribed torque,
+/// if any, evaluated there, plus the latest computed contact torque (SPEC §4).
+#[inline]
+fn torque_source(
+    prescribed: &Option<PrescribedTorque>,
+    contact: DVec3,
+) -> impl Fn(f64) -> DVec3 + '_ {
+    move |t| prescribed.as_ref().map_or(DVec3::ZERO, |p| p.at(t)) + contact
 }
 
 fn fault_diagnosis(fault: RotatorFault, body: usize, step: u64, t: f64) -> Diagnosis {
