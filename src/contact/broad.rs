@@ -6,7 +6,7 @@
 //! floating-point summation order) is deterministic.
 
 use super::{FibreGeom, Wall};
-use glam::DVec3;
+use glam::{DQuat, DVec3};
 
 /// Up to this many boxes the O(N²) loop is cheaper than sorting.
 pub const BRUTE_FORCE_MAX: usize = 32;
@@ -97,8 +97,8 @@ pub fn candidate_pairs_with(
 }
 
 /// Candidate contacts kept between steps: a neighbour list with a skin (the
-/// `neighbor skin` of LAMMPS and LIGGGHTS), rebuilt only when some fibre has
-/// moved far enough to reach a pair or a wall it was not listed with.
+/// `neighbor skin` of LAMMPS and LIGGGHTS), rebuilt only when some fibre may
+/// have moved far enough to reach a pair or a wall it was not listed with.
 ///
 /// Why it is exact: a flat-ended cylinder lies inside the capsule of its axis
 /// segment, and when both segment end points move by at most `d` every point
@@ -107,16 +107,26 @@ pub fn candidate_pairs_with(
 /// skin, touched at the last build; while no end point has moved more than
 /// half the skin since, every touching pair and wall is in it. The kernels
 /// then see the same candidates, in the same order, as a full search would
-/// give them (the others have no contact), so forces are bit-identical.
+/// give them (the others have no contact), so forces are bit-identical
+/// (`tests/broad_phase.rs`).
+///
+/// The end points are not formed every step: an end point `x ± h R(q) eₓ`
+/// moves by at most `|Δx| + 2h ‖Δq‖`, since `‖R(q) − R(p)‖ = 2 sin(θ/2) ≤
+/// 4 sin(θ/4) = 2 ‖q − p‖` for unit quaternions (θ the angle between them;
+/// for the other sign of `p` the bound only grows). With `(a + b)² ≤ 2 (a² + b²)` the test
+/// needs no square root. Between builds only the fibres in a candidate
+/// ([`Self::active`]) need their geometry.
 #[derive(Debug, Clone)]
 pub struct NeighbourList {
     half_skin: f64,
-    /// Axis end points `c ∓ h a` of each fibre at the last build.
-    built_ends: Vec<(DVec3, DVec3)>,
+    /// Centre, orientation and half length of each fibre at the last build.
+    built: Vec<(DVec3, DQuat, f64)>,
     /// `(body, wall)` candidates, body-major, walls in their order.
     pub walls: Vec<(u32, u32)>,
     /// `(i, j)` candidates, `i < j`, sorted.
     pub pairs: Vec<(u32, u32)>,
+    /// Bodies in any candidate, ascending.
+    pub active: Vec<u32>,
     boxes: Vec<(DVec3, DVec3)>,
     order: Vec<u32>,
     /// Number of builds so far (diagnostics and tests).
@@ -128,43 +138,50 @@ impl NeighbourList {
     pub fn new(skin: f64) -> Self {
         NeighbourList {
             half_skin: 0.5 * skin,
-            built_ends: vec![],
+            built: vec![],
             walls: vec![],
             pairs: vec![],
+            active: vec![],
             boxes: vec![],
             order: vec![],
             builds: 0,
         }
     }
 
-    /// Make the list valid for the fibres `geoms` (rebuilding if needed).
+    /// Whether the list still holds every possible contact of the bodies at
+    /// these poses (centre, orientation).
     #[inline]
-    pub fn update(&mut self, geoms: &[FibreGeom], walls: &[Wall]) {
-        if !self.still_valid(geoms) {
-            self.build(geoms, walls);
-        }
-    }
-
-    #[inline]
-    fn still_valid(&self, geoms: &[FibreGeom]) -> bool {
-        let limit2 = self.half_skin * self.half_skin;
-        self.built_ends.len() == geoms.len()
-            && geoms.iter().zip(&self.built_ends).all(|(g, &(lo, hi))| {
-                let (a, b) = segment_ends(g);
-                a.distance_squared(lo) <= limit2 && b.distance_squared(hi) <= limit2
+    pub fn still_valid(&self, poses: impl ExactSizeIterator<Item = (DVec3, DQuat)>) -> bool {
+        let limit2 = 0.5 * self.half_skin * self.half_skin;
+        self.built.len() == poses.len()
+            && poses.zip(&self.built).all(|((x, q), &(x0, q0, h))| {
+                // `q − q0` only: a sign flip of q (no rotator makes one) just
+                // costs a rebuild.
+                x.distance_squared(x0) + 4.0 * h * h * (q - q0).length_squared() <= limit2
             })
     }
 
-    fn build(&mut self, geoms: &[FibreGeom], walls: &[Wall]) {
+    /// Build the list for the fibres `geoms` at orientations `rotations`.
+    pub fn build(
+        &mut self,
+        geoms: &[FibreGeom],
+        rotations: impl Iterator<Item = DQuat>,
+        walls: &[Wall],
+    ) {
         self.builds += 1;
-        self.built_ends.clear();
-        self.built_ends.extend(geoms.iter().map(segment_ends));
+        self.built.clear();
+        self.built.extend(
+            geoms
+                .iter()
+                .zip(rotations)
+                .map(|(g, q)| (g.centre, q, g.half_length)),
+        );
         self.boxes.clear();
-        self.boxes
-            .extend(self.built_ends.iter().zip(geoms).map(|(&(a, b), g)| {
-                let grow = DVec3::splat(g.radius + self.half_skin);
-                (a.min(b) - grow, a.max(b) + grow)
-            }));
+        self.boxes.extend(geoms.iter().map(|g| {
+            let (a, b) = segment_ends(g);
+            let grow = DVec3::splat(g.radius + self.half_skin);
+            (a.min(b) - grow, a.max(b) + grow)
+        }));
         self.walls.clear();
         for (i, (lo, hi)) in self.boxes.iter().enumerate() {
             for (k, w) in walls.iter().enumerate() {
@@ -180,6 +197,12 @@ impl NeighbourList {
             }
         }
         candidate_pairs_with(&self.boxes, &mut self.order, &mut self.pairs);
+        self.active.clear();
+        self.active.extend(self.walls.iter().map(|&(i, _)| i));
+        self.active
+            .extend(self.pairs.iter().flat_map(|&(i, j)| [i, j]));
+        self.active.sort_unstable();
+        self.active.dedup();
     }
 }
 

@@ -111,12 +111,25 @@ impl ContactStage {
         force.fill(DVec3::ZERO);
         torque.fill(DVec3::ZERO);
         let mut stats = ContactStats::default();
-        // In place: the poses change every step, the count never does.
+        // Geometry in place (the poses change every step, the count never
+        // does): of every fibre when the list is rebuilt, else only of those
+        // in a candidate.
         self.geoms.resize(bodies.len(), FibreGeom::default());
-        for ((g, b), s) in self.geoms.iter_mut().zip(bodies).zip(states) {
-            *g = geom(b, s);
+        if self
+            .neighbours
+            .still_valid(states.iter().map(|s| (s.x, s.rot.q)))
+        {
+            for &i in &self.neighbours.active {
+                let i = i as usize;
+                self.geoms[i] = geom(&bodies[i], &states[i]);
+            }
+        } else {
+            for ((g, b), s) in self.geoms.iter_mut().zip(bodies).zip(states) {
+                *g = geom(b, s);
+            }
+            let rotations = states.iter().map(|s| s.rot.q);
+            self.neighbours.build(&self.geoms, rotations, &self.walls);
         }
-        self.neighbours.update(&self.geoms, &self.walls);
 
         for &(i, k) in &self.neighbours.walls {
             let i = i as usize;
