@@ -2,14 +2,16 @@
 //! time, ns per step and the share of the step spent in contact detection and
 //! forces. A `--bench`-style command, not criterion: one run is 2e7 steps.
 //!
-//! `cargo bench --bench contacts` runs the whole 2 s twice: once untimed (the
-//! wall time) and once with the stage clocks (the shares; the clocks cost
-//! four clock reads a step, so that run is slower). `-- --quick` runs 0.5 s,
+//! `cargo bench --bench contacts` runs the whole 2 s twice: once as `fibresim
+//! run` does (outputs included: the wall time) and once as a bare step loop
+//! with the stage clocks (the shares; the clocks cost four clock reads a
+//! step). `-- --quick` runs 0.5 s,
 //! which holds the first wall and fibre contacts (t ≈ 0.22 s).
 
 use fibresim::contact::fibre_fibre::PARRY_CALLS;
 use fibresim::integrate::rotate::Pcdm;
 use fibresim::integrate::step::{StageTimes, World};
+use fibresim::run::{run, RunOptions};
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 
@@ -21,13 +23,15 @@ fn main() {
     scene.sim.steps = (t_end / scene.sim.dt).round() as u64;
     let steps = scene.sim.steps as f64;
 
-    let mut w = World::new(&scene);
+    // The run as `fibresim run` does it (outputs included), for the wall time.
+    let dir = tempfile::tempdir().unwrap();
+    let opts = RunOptions {
+        out_dir: dir.path().to_path_buf(),
+        ..Default::default()
+    };
     let start = Instant::now();
-    while w.step < scene.sim.steps {
-        w.step::<Pcdm>().expect("stable");
-    }
+    let outcome = run(&scene, &opts).expect("stable");
     let wall = start.elapsed().as_secs_f64();
-    let builds = w.contacts.as_ref().map_or(0, |c| c.neighbour_builds());
     let parry = PARRY_CALLS.load(Ordering::Relaxed);
 
     let mut w = World::new(&scene);
@@ -36,10 +40,12 @@ fn main() {
         w.step::<Pcdm>().expect("stable");
     }
     let t = w.timers.unwrap();
+    let builds = w.contacts.as_ref().map_or(0, |c| c.neighbour_builds());
     let total = (t.integrate + t.forces + t.guards).as_secs_f64();
     let share = |d: std::time::Duration| 100.0 * d.as_secs_f64() / total;
+    assert_eq!(outcome.summary.steps, scene.sim.steps);
     println!(
-        "test case 2, pcdm, {} steps on one thread: wall {wall:.2} s, {:.0} ns/step ({:.1} ns/body-step)",
+        "test case 2, pcdm, {} steps on one thread (as `fibresim run`): wall {wall:.2} s, {:.0} ns/step ({:.1} ns/body-step)",
         scene.sim.steps,
         wall * 1e9 / steps,
         wall * 1e9 / steps / scene.bodies.len() as f64,
