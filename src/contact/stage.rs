@@ -36,8 +36,8 @@ pub struct ContactStage {
 }
 
 /// Neighbour-list skin as a fraction of the thinnest fibre's diameter. Wider
-/// means fewer rebuilds and more candidates to reject; at 0.2 D a test-case-2
-/// fibre (≤ 5 m/s) moves ~2000 steps of 1e-7 s between rebuilds.
+/// means fewer rebuilds and more candidates to reject; at 0.2 D test case 2
+/// (fibres at ≤ 5 m/s, δt = 1e-7 s) rebuilds once per ~1500 steps.
 pub const SKIN_PER_DIAMETER: f64 = 0.2;
 
 /// The six inward-facing half-spaces of an axis-aligned box.
