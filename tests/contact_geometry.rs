@@ -3,7 +3,7 @@
 //! reliable (half-space passed FIRST; side–side crossings away from the ends).
 
 mod common;
-use common::{fib, H, R};
+use common::{fib, Rng, H, R};
 
 use fibresim::contact::fibre_fibre::{
     dome_sag, domed_projection_overlap, projection_overlap, segment_closest_params, COAXIAL_SIN,
@@ -545,20 +545,6 @@ fn proptest_side_side_matches_parry() {
 }
 
 // ------------------------------------------------------- energy consistency
-
-/// Tiny deterministic generator (xorshift64*), for reproducible poses.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn unit(&mut self) -> DVec3 {
-        unit(2.0 * self.next() - 1.0, std::f64::consts::TAU * self.next())
-    }
-}
 
 /// Force and torque (about `f.centre`) on the fibre from a contact list,
 /// including the couple `−U·weight_grad` of orientation-dependent weights.

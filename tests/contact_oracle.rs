@@ -17,7 +17,7 @@
 //! changes a convex pair's depth by exactly −t), not by bisection on parry.
 
 mod common;
-use common::{fib, H, R};
+use common::{fib, Rng, H, R};
 
 use fibresim::contact::fibre_fibre::{
     segment_closest_params, END_FACE_DOME_SIN, PARRY_UNCONFIRMED,
@@ -28,23 +28,6 @@ use parry3d_f64::math::Pose;
 use parry3d_f64::query;
 use parry3d_f64::shape::Cylinder;
 use std::sync::atomic::Ordering;
-
-/// xorshift64*, for reproducible poses.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn unit(&mut self) -> DVec3 {
-        let z = 2.0 * self.next() - 1.0;
-        let phi = std::f64::consts::TAU * self.next();
-        let s = (1.0 - z * z).sqrt();
-        DVec3::new(s * phi.cos(), s * phi.sin(), z)
-    }
-}
 
 #[derive(Clone, Copy, PartialEq)]
 enum Body {

@@ -71,3 +71,24 @@ density = 1100.0
 young = 5e7
 poisson = 0.35
 "#;
+
+/// A tiny deterministic generator (xorshift64*), for reproducible poses.
+pub struct Rng(pub u64);
+
+impl Rng {
+    /// Uniform in [0, 1).
+    pub fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform on the unit sphere.
+    pub fn unit(&mut self) -> DVec3 {
+        let z = 2.0 * self.next() - 1.0;
+        let phi = std::f64::consts::TAU * self.next();
+        let s = (1.0 - z * z).max(0.0).sqrt();
+        DVec3::new(s * phi.cos(), s * phi.sin(), z)
+    }
+}
