@@ -20,8 +20,11 @@ fn main() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/nine_fibres.toml");
     let mut scene = fibresim::scenario::load(std::path::Path::new(path)).unwrap();
     let t_end = if quick { 0.5 } else { 2.0 };
-    scene.sim.steps = (t_end / scene.sim.dt).round() as u64;
-    let steps = scene.sim.steps as f64;
+    let steps = (t_end / scene.sim.dt()).round() as u64;
+    scene.sim =
+        fibresim::scenario::SimParams::with_steps(scene.sim.dt(), steps, scene.sim.rotator(), None)
+            .unwrap();
+    let steps = scene.sim.steps() as f64;
 
     // The run as `fibresim run` does it (outputs included), for the wall time.
     let dir = tempfile::tempdir().unwrap();
@@ -36,17 +39,17 @@ fn main() {
 
     let mut w = World::new(&scene);
     w.timers = Some(StageTimes::default());
-    while w.step < scene.sim.steps {
+    while w.step < scene.sim.steps() {
         w.step::<Pcdm>().expect("stable");
     }
     let t = w.timers.unwrap();
     let builds = w.contacts.as_ref().map_or(0, |c| c.neighbour_builds());
     let total = (t.integrate + t.forces + t.guards).as_secs_f64();
     let share = |d: std::time::Duration| 100.0 * d.as_secs_f64() / total;
-    assert_eq!(outcome.summary.steps, scene.sim.steps);
+    assert_eq!(outcome.steps, scene.sim.steps());
     println!(
         "test case 2, pcdm, {} steps on one thread (as `fibresim run`): wall {wall:.2} s, {:.0} ns/step ({:.1} ns/body-step)",
-        scene.sim.steps,
+        scene.sim.steps(),
         wall * 1e9 / steps,
         wall * 1e9 / steps / scene.bodies.len() as f64,
     );

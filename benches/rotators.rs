@@ -7,10 +7,9 @@
 //! Run: `cargo bench --bench rotators`.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use fibresim::integrate::rotate::RotatorKind;
+use fibresim::integrate::rotate::{Rotator, RotatorKind, RotatorVisitor};
 use fibresim::integrate::step::World;
 use fibresim::scenario::{self, Scene};
-use fibresim::with_rotator;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
@@ -25,8 +24,20 @@ fn tc4(zero_torque: bool) -> Scene {
         text.to_string()
     };
     let mut s = scenario::parse_str(&text, "tc4").unwrap();
-    s.sim.dt = 1e-7;
+    s.sim = scenario::SimParams::with_steps(1e-7, s.sim.steps(), s.sim.rotator(), None).unwrap();
     s
+}
+
+/// `n` steps with the rotator the visitor is called with (one dispatch).
+struct Steps<'a, 's>(&'a mut World<'s>, u64);
+
+impl RotatorVisitor for Steps<'_, '_> {
+    type Output = ();
+    fn visit<R: Rotator>(self) {
+        for _ in 0..self.1 {
+            let _ = black_box(self.0.step::<R>());
+        }
+    }
 }
 
 /// Time `iters` steps, restarting from t = 0 every 1e6 steps (T = 0.1 s).
@@ -37,11 +48,7 @@ fn time_steps(scene: &Scene, kind: RotatorKind, iters: u64) -> Duration {
         let n = left.min(1_000_000);
         let mut w = World::new(scene);
         let start = Instant::now();
-        with_rotator!(kind, R => {
-            for _ in 0..n {
-                let _ = black_box(w.step::<R>());
-            }
-        });
+        kind.visit(Steps(&mut w, n));
         total += start.elapsed();
         black_box(&w.states);
         left -= n;
@@ -62,7 +69,7 @@ fn bench(c: &mut Criterion) {
     g.finish();
 
     let scene = tc4(false);
-    let torque = scene.torques[0].clone().unwrap();
+    let torque = scene.torques[0].torque.clone();
     c.bench_function("torque_eval/tc4", |b| {
         let mut t = 0.0;
         b.iter(|| {

@@ -11,11 +11,10 @@ fn bench(c: &mut Criterion) {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/torque_fibre.toml");
     let mut scene = scenario::load(std::path::Path::new(path)).unwrap();
     scene.sim =
-        scenario::SimParams::new(1e-7, 0.1, scene.sim.rotator, None, "bench", "--").unwrap();
+        scenario::SimParams::new(1e-7, 0.1, scene.sim.rotator(), None, "bench", "--").unwrap();
     let dir = tempfile::tempdir().unwrap();
     let opts = RunOptions {
         out_dir: dir.path().to_path_buf(),
-        every: None,
         progress: false,
         ..Default::default()
     };

@@ -14,9 +14,7 @@ use fibresim::body::Shape;
 use fibresim::contact::stage::box_walls;
 use fibresim::contact::*;
 use fibresim::integrate::step::World;
-use fibresim::output::checkpoint::state_from_bits;
 use fibresim::output::Checkpoint;
-use fibresim::with_rotator;
 use glam::{DQuat, DVec3};
 
 /// Poses whose gradient mismatch exceeds this are printed in full (to paste
@@ -77,13 +75,9 @@ fn main() {
     let dump_from: u64 = args.get(4).map_or(u64::MAX, |s| s.parse().expect("step"));
     let scene = fibresim::run::scene_from_checkpoint(&c, Some(until)).expect("scene");
     let mut w = World::new(&scene);
-    w.restore(
-        c.states
-            .iter()
-            .map(|s| state_from_bits(s).expect("state"))
-            .collect(),
-        c.step,
-    );
+    let (states, aux, _) =
+        fibresim::output::checkpoint::restore(&c, &scene, 0).expect("checkpoint of this scene");
+    w.restore(states, aux, c.step);
     let e0 = w.e0_full;
     let geom = |w: &World, i: usize| {
         let Shape::Fibre { diameter, length } = scene.bodies[i].shape else {
@@ -97,8 +91,8 @@ fn main() {
         }
     };
     let walls = scene.walls.as_ref().map(box_walls).unwrap_or_default();
-    while w.step < scene.sim.steps {
-        with_rotator!(scene.sim.rotator, R => w.step::<R>()).expect("step");
+    while w.step < scene.sim.steps() {
+        w.step_kind(scene.sim.rotator()).expect("step");
         if w.step % every != 0 {
             continue;
         }
@@ -110,19 +104,16 @@ fn main() {
         );
         let n = scene.bodies.len();
         for i in 0..n {
-            let (bi, gi) = (&scene.bodies[i], geom(&w, i));
-            let d = |s: &Shape| match *s {
-                Shape::Fibre { diameter, .. } | Shape::Sphere { diameter } => diameter,
-            };
+            let (bi, mi, gi) = (&scene.bodies[i], scene.material(i), geom(&w, i));
             for j in i + 1..n {
-                let (bj, gj) = (&scene.bodies[j], geom(&w, j));
+                let (bj, mj, gj) = (&scene.bodies[j], scene.material(j), geom(&w, j));
                 let law = HertzLaw::fibre_fibre(
-                    d(&bi.shape),
-                    bi.young,
-                    bi.poisson,
-                    d(&bj.shape),
-                    bj.young,
-                    bj.poisson,
+                    bi.shape.diameter(),
+                    mi.young,
+                    mi.poisson,
+                    bj.shape.diameter(),
+                    mj.young,
+                    mj.poisson,
                 );
                 if let Some((u, worst, k)) =
                     audit(&gi, &law, &|a, out| contact_fibre_fibre(a, &gj, out))
@@ -135,8 +126,13 @@ fn main() {
                 }
             }
             if let Some(wl) = &scene.walls {
-                let law =
-                    HertzLaw::fibre_wall(d(&bi.shape), bi.young, bi.poisson, wl.young, wl.poisson);
+                let law = HertzLaw::fibre_wall(
+                    bi.shape.diameter(),
+                    mi.young,
+                    mi.poisson,
+                    wl.young,
+                    wl.poisson,
+                );
                 for (k, wall) in walls.iter().enumerate() {
                     if let Some((u, worst, m)) =
                         audit(&gi, &law, &|a, out| contact_fibre_wall(a, wall, out))

@@ -31,7 +31,7 @@
 //! peak Hertz force of the worst impact is often shorter than the collision
 //! itself, so it bounds δt too.
 
-use crate::body::{Body, Shape};
+use crate::body::{Body, Material, Shape};
 use crate::contact::fibre_fibre::END_FACE_DOME_SIN;
 use crate::contact::fibre_wall::FACE_BLEND_SIN;
 use crate::contact::HertzLaw;
@@ -75,17 +75,11 @@ pub struct Advice {
     pub warnings: Vec<String>,
 }
 
-/// Rayleigh time of a fibre's material: `π r √(ρ/G) / (0.1631 ν + 0.8766)`.
-pub fn rayleigh_time(b: &Body) -> f64 {
-    let r = 0.5 * diameter(b);
-    let g = b.young / (2.0 * (1.0 + b.poisson));
-    std::f64::consts::PI * r * (b.density / g).sqrt() / (0.1631 * b.poisson + 0.8766)
-}
-
-fn diameter(b: &Body) -> f64 {
-    match b.shape {
-        Shape::Fibre { diameter, .. } | Shape::Sphere { diameter } => diameter,
-    }
+/// Rayleigh time of a fibre of material `m`: `π r √(ρ/G) / (0.1631 ν + 0.8766)`.
+pub fn rayleigh_time(b: &Body, m: &Material) -> f64 {
+    let r = 0.5 * b.shape.diameter();
+    let g = m.young / (2.0 * (1.0 + m.poisson));
+    std::f64::consts::PI * r * (m.density / g).sqrt() / (0.1631 * m.poisson + 0.8766)
 }
 
 /// Smallest effective mass `1/(1/m + (r×n)·I⁻¹(r×n))` of a body over its
@@ -133,8 +127,15 @@ fn tilt_period(b: &Body, law: &HertzLaw, m: f64, v: f64, rho: f64) -> f64 {
 }
 
 /// Bodies that are the same kind for contact purposes.
-fn same_kind(a: &Body, b: &Body) -> bool {
-    a.shape == b.shape && a.density == b.density && a.young == b.young && a.poisson == b.poisson
+fn same_kind(scene: &Scene, a: &Body, b: &Body) -> bool {
+    let (ma, mb) = (
+        &scene.materials[a.material as usize],
+        &scene.materials[b.material as usize],
+    );
+    a.shape == b.shape
+        && ma.density == mb.density
+        && ma.young == mb.young
+        && ma.poisson == mb.poisson
 }
 
 pub fn advise(scene: &Scene) -> Advice {
@@ -183,23 +184,25 @@ pub fn advise(scene: &Scene) -> Advice {
     // One representative body per kind.
     let mut kinds: Vec<usize> = vec![];
     for (i, b) in scene.bodies.iter().enumerate() {
-        if !kinds.iter().any(|&k| same_kind(&scene.bodies[k], b)) {
+        if !kinds.iter().any(|&k| same_kind(scene, &scene.bodies[k], b)) {
             kinds.push(i);
         }
     }
-    let name = |i: usize| scene.bodies[i].name.clone();
+    let name = |i: usize| scene.names[i].clone();
+    let mat = |i: usize| scene.material(i);
     if let Some(w) = &scene.walls {
         for &i in &kinds {
-            let b = &scene.bodies[i];
-            let law = HertzLaw::fibre_wall(diameter(b), b.young, b.poisson, w.young, w.poisson);
-            let rho = 4.0 * 0.5 * diameter(b) / FACE_BLEND_SIN;
+            let (b, m) = (&scene.bodies[i], mat(i));
+            let d = b.shape.diameter();
+            let law = HertzLaw::fibre_wall(d, m.young, m.poisson, w.young, w.poisson);
+            let rho = 4.0 * 0.5 * d / FACE_BLEND_SIN;
             pairs.push(PairAdvice {
                 pair: format!("{}–wall", name(i)),
                 reduced_mass: m_eff(b),
                 translational_mass: b.mass,
                 v_max: v_max(b),
                 contact_time: law.contact_time(m_eff(b), v_max(b)),
-                rayleigh_time: rayleigh_time(b),
+                rayleigh_time: rayleigh_time(b, m),
                 tilt_period: tilt_period(b, &law, m_eff(b), v_max(b), rho),
             });
         }
@@ -212,20 +215,21 @@ pub fn advise(scene: &Scene) -> Advice {
                     && scene
                         .bodies
                         .iter()
-                        .filter(|b| same_kind(b, &scene.bodies[i]))
+                        .filter(|b| same_kind(scene, b, &scene.bodies[i]))
                         .count()
                         < 2
                 {
                     continue;
                 }
                 let (a, b) = (&scene.bodies[i], &scene.bodies[j]);
+                let (ma, mb) = (mat(i), mat(j));
                 let law = HertzLaw::fibre_fibre(
-                    diameter(a),
-                    a.young,
-                    a.poisson,
-                    diameter(b),
-                    b.young,
-                    b.poisson,
+                    a.shape.diameter(),
+                    ma.young,
+                    ma.poisson,
+                    b.shape.diameter(),
+                    mb.young,
+                    mb.poisson,
                 );
                 let m = 1.0 / (1.0 / m_eff(a) + 1.0 / m_eff(b));
                 let v = v_max(a) + v_max(b);
@@ -239,11 +243,11 @@ pub fn advise(scene: &Scene) -> Advice {
                     translational_mass: a.mass * b.mass / (a.mass + b.mass),
                     v_max: v,
                     contact_time: law.contact_time(m, v),
-                    rayleigh_time: rayleigh_time(a).min(rayleigh_time(b)),
+                    rayleigh_time: rayleigh_time(a, ma).min(rayleigh_time(b, mb)),
                     // Either fibre's face may rest on the other.
                     tilt_period: [a, b]
                         .map(|f| {
-                            let rho = 0.5 * diameter(f) / END_FACE_DOME_SIN;
+                            let rho = 0.5 * f.shape.diameter() / END_FACE_DOME_SIN;
                             tilt_period(f, &law, m, v, rho)
                         })
                         .into_iter()
@@ -267,7 +271,7 @@ pub fn advise(scene: &Scene) -> Advice {
     let recommended = (t_c / STEPS_PER_COLLISION)
         .min(RAYLEIGH_FRACTION * t_r)
         .min(t_tilt / STEPS_PER_TILT_PERIOD);
-    let dt = scene.sim.dt;
+    let dt = scene.sim.dt();
     if dt > recommended {
         warnings.push(format!(
             "dt = {dt:e} s is above the recommended {recommended:.3e} s (the shortest Hertz collision, {t_c:.3e} s, gets {:.1} steps; the fastest face tilt, {t_tilt:.3e} s, {:.1}; 0.2 x Rayleigh time = {:.3e} s)",

@@ -37,6 +37,13 @@ impl Shape {
         }
     }
 
+    /// Diameter of the cylinder or the sphere.
+    pub fn diameter(&self) -> f64 {
+        match *self {
+            Shape::Fibre { diameter, .. } | Shape::Sphere { diameter } => diameter,
+        }
+    }
+
     /// Radius of the smallest sphere about the centre of mass that holds the body.
     pub fn bounding_radius(&self) -> f64 {
         match *self {
@@ -85,15 +92,30 @@ impl Inertia {
     }
 }
 
-/// Constant properties of one body.
+/// Index of a [`Material`] in its scene's material table.
+pub type MaterialId = u32;
+
+/// Elastic constants and density shared by the bodies made of it.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Body {
+pub struct Material {
+    /// The scenario's `[material.NAME]`, or `inline-K` for values given on
+    /// a body (identical inline values share one entry).
     pub name: String,
-    pub shape: Shape,
+    /// kg/m³.
     pub density: f64,
-    /// Young's modulus and Poisson ratio (used only by contacts).
+    /// Young's modulus (Pa) and Poisson ratio, used only by contacts (NaN in
+    /// contact-free scenes that do not give them).
     pub young: f64,
     pub poisson: f64,
+}
+
+/// Constant mechanical properties of one body: what the step reads. Labels
+/// (id, name) and materials live in their own tables of the scene, so the
+/// hot loops stream only numbers.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Body {
+    pub shape: Shape,
+    pub material: MaterialId,
     pub mass: f64,
     /// `1/m`, kept so the step multiplies instead of dividing.
     pub inv_mass: f64,
@@ -101,14 +123,11 @@ pub struct Body {
 }
 
 impl Body {
-    pub fn new(name: String, shape: Shape, density: f64, young: f64, poisson: f64) -> Self {
+    pub fn new(shape: Shape, material: MaterialId, density: f64) -> Self {
         let mass = density * shape.volume();
         Body {
-            name,
             shape,
-            density,
-            young,
-            poisson,
+            material,
             mass,
             inv_mass: 1.0 / mass,
             inertia: Inertia::new(mass * shape.inertia_per_mass()),

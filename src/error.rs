@@ -5,54 +5,8 @@
 //! 1 = anything else (I/O failure while writing results), 130 = interrupted by
 //! SIGINT (a checkpoint was written).
 
+pub use crate::stop::Diagnosis;
 use std::path::PathBuf;
-
-/// A named, early stop of a run that would otherwise produce garbage.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct Diagnosis {
-    /// What went wrong, e.g. `"scalar-factor singularity"`.
-    pub kind: String,
-    pub step: u64,
-    pub t: f64,
-    /// Index of the body concerned, if one is.
-    pub body: Option<usize>,
-    /// The quantity that crossed its limit, e.g. `"|omega| dt / 2"`.
-    pub quantity: String,
-    pub value: f64,
-    pub limit: f64,
-}
-
-impl std::fmt::Display for Diagnosis {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "{} at step {} (t = {:e} s)",
-            self.kind, self.step, self.t
-        )?;
-        if let Some(b) = self.body {
-            write!(f, ", body {b}")?;
-        }
-        if !self.value.is_finite() {
-            // A non-numeric stop has no limit to compare with: say what is not
-            // finite.
-            let what = &self.quantity;
-            let v = if self.value.is_nan() {
-                "NaN"
-            } else if self.value > 0.0 {
-                "+inf"
-            } else {
-                "-inf"
-            };
-            return write!(f, ": {what} is {v} (must be finite)");
-        }
-        write!(f, ": {} = {:.6e}", self.quantity, self.value)?;
-        if self.limit.is_finite() && self.limit < f64::MAX {
-            write!(f, " exceeds the limit {:.6e}", self.limit)
-        } else {
-            write!(f, " is out of range")
-        }
-    }
-}
 
 /// `:line:column` of a scenario-file error, or nothing.
 fn at(line: &Option<(usize, usize)>) -> String {

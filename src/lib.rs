@@ -33,5 +33,6 @@ pub mod output;
 pub mod plot;
 pub mod run;
 pub mod scenario;
+pub mod stop;
 pub mod study;
 pub mod torque;

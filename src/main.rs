@@ -78,10 +78,10 @@ fn load_scene(args: &RunArgs) -> Result<(Scene, String)> {
     if args.rotator.is_some() || args.dt.is_some() || args.t_end.is_some() || args.every.is_some() {
         let s = &scene.sim;
         scene.sim = SimParams::new(
-            args.dt.unwrap_or(s.dt),
+            args.dt.unwrap_or(s.dt()),
             args.t_end.unwrap_or(s.t_end()),
-            args.rotator.unwrap_or(s.rotator),
-            args.every.or(s.every),
+            args.rotator.unwrap_or(s.rotator()),
+            args.every.or(s.every()),
             "command line",
             "--",
         )?;
@@ -111,30 +111,30 @@ fn cmd_check(args: CheckArgs) -> Result<()> {
     let mut scene = scenario::load(&args.scenario)?;
     if let Some(dt) = args.dt {
         let s = &scene.sim;
-        scene.sim = SimParams::new(dt, s.t_end(), s.rotator, s.every, "command line", "--")?;
+        scene.sim = SimParams::new(dt, s.t_end(), s.rotator(), s.every(), "command line", "--")?;
     }
     let a = advise(&scene);
     println!(
         "scenario {}: {} bodies, dt = {:e} s, {} steps, rotator {}",
         scene.source,
         scene.bodies.len(),
-        scene.sim.dt,
-        scene.sim.steps,
-        scene.sim.rotator
+        scene.sim.dt(),
+        scene.sim.steps(),
+        scene.sim.rotator()
     );
     println!("\nbodies (mass kg; principal inertia kg m^2, body x y z):");
     for (i, b) in scene.bodies.iter().enumerate() {
         let p = b.inertia.principal;
         println!(
             "  [{i}] {:<10} {:?}  m = {:.4e}  I = ({:.4e}, {:.4e}, {:.4e})",
-            b.name, b.shape, b.mass, p.x, p.y, p.z
+            scene.names[i], b.shape, b.mass, p.x, p.y, p.z
         );
     }
     println!("\ncomponents: gravity {}, walls {}, contact search {}, prescribed torques on {} bodies, closed-form reference {}",
         if scene.gravity.is_some() { "on" } else { "off" },
         if scene.walls.is_some() { "6 half-spaces" } else { "none" },
         match scene.bodies.len() { _ if !scene.needs_contacts() => "off".to_string(), 1 => "walls only".into(), n if n <= 32 => format!("{n} bodies, all pairs"), n => format!("{n} bodies, sort-and-sweep") },
-        scene.torques.iter().filter(|t| t.is_some()).count(),
+        scene.torques.len(),
         if scene.reference.is_some() { "yes" } else { "no" });
     if !a.pairs.is_empty() {
         println!("\nimpact speeds bounded by energy conservation: E_avail = {:.4e} J (all of it into one body)", a.available_energy);
@@ -166,16 +166,16 @@ fn cmd_check(args: CheckArgs) -> Result<()> {
         }
     }
     match a.recommended_dt {
-        Some(r) => println!("\nrecommended dt <= {r:.3e} s (shortest collision / 50, fastest face tilt / 50, and 0.2 x Rayleigh time); chosen dt = {:e} s, margin {:.3}x", scene.sim.dt, r / scene.sim.dt),
+        Some(r) => println!("\nrecommended dt <= {r:.3e} s (shortest collision / 50, fastest face tilt / 50, and 0.2 x Rayleigh time); chosen dt = {:e} s, margin {:.3}x", scene.sim.dt(), r / scene.sim.dt()),
         None => println!("\nno contacts to resolve: dt is limited by accuracy only (see `fibresim rotators` for orders)"),
     }
     if a.recommended_dt.is_some() {
-        let i = scene.sim.rotator.info();
+        let i = scene.sim.rotator().info();
         println!(
             "note: the advice resolves the contact mechanics; the rotator's own error on contact torques comes on top. {}: {}.{}",
             i.name,
             i.contact_contract,
-            if i.kick_drift_kick {
+            if i.closing_kick {
                 ""
             } else {
                 " That is first order in dt: its energy error per collision falls only like dt (README, test case 1; `fibresim stress` for stiff impacts)"
@@ -206,13 +206,13 @@ fn cmd_run(args: RunArgs) -> Result<()> {
     }
     let advice = advise(&scene);
     if let Some(limit) = advice.hard_limit_dt {
-        if scene.sim.dt > limit && !args.allow_large_dt {
+        if scene.sim.dt() > limit && !args.allow_large_dt {
             return Err(Error::bad(
                 &scene.source,
                 "simulation.dt",
                 format!(
                     "dt = {:e} s leaves fewer than 5 steps for the shortest Hertz collision or face-tilt period ({:.3e} s); use dt <= {:.3e} s (see `fibresim check`), or --allow-large-dt to run anyway",
-                    scene.sim.dt,
+                    scene.sim.dt(),
                     limit * 5.0,
                     advice.recommended_dt.unwrap_or(limit)
                 ),
@@ -232,7 +232,7 @@ fn cmd_run(args: RunArgs) -> Result<()> {
         Some(d) => d.clone(),
         None => PathBuf::from("out")
             .join(&stem)
-            .join(scene.sim.rotator.name()),
+            .join(scene.sim.rotator().name()),
     };
     let out_dir = args.out.clone().unwrap_or(default_out);
     if let (Some(c), Some(from)) = (&checkpoint, &checkpoint_dir) {
@@ -240,7 +240,6 @@ fn cmd_run(args: RunArgs) -> Result<()> {
     }
     let opts = RunOptions {
         out_dir: out_dir.clone(),
-        every: None,
         progress: !args.quiet,
         checkpoint_every: args.checkpoint_every,
     };
@@ -250,7 +249,7 @@ fn cmd_run(args: RunArgs) -> Result<()> {
     let outcome = run::run_from(&scene, &opts, checkpoint.as_ref());
     match &outcome {
         Ok(o) if !args.quiet => {
-            let s = &o.summary;
+            let s = o;
             println!(
                 "{}: {} steps of {:e} s with {} in {:.3} s ({:.1} ns per body-step) -> {}",
                 scene.source,

@@ -50,7 +50,7 @@ fn full_search(scene: &Scene, states: &[BodyState]) -> (Vec<DVec3>, Vec<DVec3>, 
         }
     };
     for i in 0..n {
-        let b = &scene.bodies[i];
+        let b = scene.material(i);
         let law =
             HertzLaw::fibre_wall(2.0 * geom(i).radius, b.young, b.poisson, w.young, w.poisson);
         for wall in &walls {
@@ -63,7 +63,7 @@ fn full_search(scene: &Scene, states: &[BodyState]) -> (Vec<DVec3>, Vec<DVec3>, 
         for j in i + 1..n {
             pts.clear();
             contact_fibre_fibre(&geom(i), &geom(j), &mut pts);
-            let (a, b) = (&scene.bodies[i], &scene.bodies[j]);
+            let (a, b) = (scene.material(i), scene.material(j));
             let law = HertzLaw::fibre_fibre(
                 2.0 * geom(i).radius,
                 a.young,
@@ -111,14 +111,14 @@ fn check(n: usize) {
     let scene = dense_scene(n);
     let mut w = World::new(&scene);
     let (mut touching_steps, mut rebuilds_seen) = (0u64, 0u64);
-    while w.step < scene.sim.steps {
+    while w.step < scene.sim.steps() {
         w.step::<Pcdm>().expect("the dense scene stays stable");
         let (f, t, e) = full_search(&scene, &w.states);
         assert_eq!(f, w.force, "forces at step {}", w.step);
         assert_eq!(t, w.torque, "torques at step {}", w.step);
         assert_eq!(
             e.to_bits(),
-            w.elastic.to_bits(),
+            w.elastic().to_bits(),
             "energy at step {}",
             w.step
         );
@@ -129,11 +129,11 @@ fn check(n: usize) {
     // fewer builds than steps.
     println!(
         "{n} fibres: {touching_steps} of {} steps with contacts, {rebuilds_seen} list builds",
-        scene.sim.steps
+        scene.sim.steps()
     );
-    assert!(touching_steps > scene.sim.steps / 2, "{touching_steps}");
+    assert!(touching_steps > scene.sim.steps() / 2, "{touching_steps}");
     assert!(
-        rebuilds_seen > 10 && rebuilds_seen < scene.sim.steps / 10,
+        rebuilds_seen > 10 && rebuilds_seen < scene.sim.steps() / 10,
         "{rebuilds_seen}"
     );
 }

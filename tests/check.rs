@@ -214,14 +214,12 @@ fn worst_effective_mass_is_the_minimum_over_the_surface() {
     use glam::DVec3;
     for (d, l) in [(0.01, 0.025), (0.001, 0.1), (0.02, 0.005)] {
         let b = Body::new(
-            "f".into(),
             Shape::Fibre {
                 diameter: d,
                 length: l,
             },
+            0,
             1100.0,
-            5e7,
-            0.35,
         );
         let inv_i = b.inertia.inverse;
         let inv_m_eff = |r: DVec3, n: DVec3| 1.0 / b.mass + (r.cross(n) * r.cross(n)).dot(inv_i);

@@ -5,7 +5,7 @@ mod common;
 use common::*;
 use fibresim::integrate::rotate::RotatorKind;
 use fibresim::run::integrate_observed;
-use fibresim::scenario::Scene;
+use fibresim::scenario::{Scene, SimParams};
 use glam::DVec3;
 
 fn scene(sim: &str, extra: &str, bodies: &[&str]) -> Scene {
@@ -45,7 +45,7 @@ fn head_on_collision_conserves_and_lasts_the_hertz_time() {
     );
     for kind in [RotatorKind::Pcdm, RotatorKind::Leapfrog] {
         let mut s = s.clone();
-        s.sim.rotator = kind;
+        s.sim = s.sim.with_rotator(kind);
         let w0 = fibresim::integrate::step::World::new(&s);
         let (p0, l0) = momentum(&s, &w0);
         let e0: f64 = s.bodies.iter().map(|b| 0.5 * b.mass * 1.0).sum();
@@ -133,7 +133,7 @@ fn off_centre_impact_conserves_momenta_and_energy() {
         (RotatorKind::Pcdm, 5e-4, 1e-9, 5e-4),
     ] {
         let mut s = s.clone();
-        s.sim.rotator = kind;
+        s.sim = s.sim.with_rotator(kind);
         let w0 = fibresim::integrate::step::World::new(&s);
         let (p0, l0) = momentum(&s, &w0);
         let m = s.bodies[0].mass;
@@ -307,11 +307,9 @@ fn test_case_1_first_bounce_energy_error_has_each_rotators_order() {
     let base = scene_file("single_fibre.toml");
     let run = |kind: RotatorKind, dt: f64| -> (f64, f64) {
         let mut s = base.clone();
-        s.sim.rotator = kind;
-        s.sim.dt = dt;
-        s.sim.steps = (0.33 / dt).round() as u64;
+        s.sim = SimParams::with_steps(dt, (0.33 / dt).round() as u64, kind, None).unwrap();
         let e = |w: &fibresim::integrate::step::World| {
-            fibresim::energy::Ledger::measure(&s.bodies, &w.states, s.gravity, w.elastic)
+            fibresim::energy::Ledger::measure(&s.bodies, &w.states, s.gravity, w.elastic())
                 .total_full()
         };
         let e0 = e(&fibresim::integrate::step::World::new(&s));

@@ -13,7 +13,7 @@ mod common;
 use common::*;
 use fibresim::contact::{contact_fibre_fibre, ContactPoint, FibreGeom, HertzLaw};
 use fibresim::integrate::step::World;
-use fibresim::with_rotator;
+
 use glam::{DQuat, DVec3};
 
 /// A body's state, as the scenario file gives it.
@@ -121,7 +121,7 @@ fn replay(starts: &[Start; 2], steps: u64) -> Replay {
     let mut w = World::new(&scene);
     let mut states = w.states.clone();
     states[1].x -= away;
-    w.restore(states, 0);
+    w.restore(states, vec![], 0);
     let e0 = w.ledger.total_full();
     // (The energy guard's reference: the pair as put back.)
     w.e0_full = e0;
@@ -139,7 +139,8 @@ fn replay(starts: &[Start; 2], steps: u64) -> Replay {
     };
     let mut prev = 0.0;
     while w.step < steps {
-        with_rotator!(RotatorKind::Leapfrog, R => w.step::<R>()).expect("step");
+        w.step_kind(fibresim::integrate::rotate::RotatorKind::Leapfrog)
+            .expect("step");
         let e = (w.ledger.total_full() - e0) / e0;
         r.worst = r.worst.max(e.abs());
         r.worst_step = r.worst_step.max((e - prev).abs());

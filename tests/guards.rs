@@ -6,9 +6,9 @@
 mod common;
 use common::fibresim;
 
-use fibresim::error::Diagnosis;
 use fibresim::integrate::rotate::Frozen;
 use fibresim::integrate::step::{World, QUAT_NORM_TOLERANCE};
+use fibresim::stop::{Diagnosis, StopKind};
 use std::path::Path;
 
 fn read(p: &Path) -> String {
@@ -202,8 +202,9 @@ angular_velocity = [1.0, 2.0, 3.0]
         w.states[0].rot.q *= 1.0 + off;
         match (w.step::<Frozen>(), stops) {
             (Err(d), true) => {
-                assert_eq!(d.kind, "quaternion norm drift");
-                assert_eq!(d.quantity, "| ||q|| - 1 |");
+                assert_eq!(d.kind, StopKind::QuatNormDrift);
+                assert_eq!(d.kind.to_string(), "quaternion norm drift");
+                assert_eq!(d.quantity(), "| ||q|| - 1 |");
                 assert_eq!((d.step, d.body, d.limit), (1, Some(0), QUAT_NORM_TOLERANCE));
                 assert!((d.value - off).abs() < 1e-15, "{d}");
                 assert!(d.to_string().contains("exceeds the limit 1.000000e-9"));
@@ -214,13 +215,12 @@ angular_velocity = [1.0, 2.0, 3.0]
     }
 }
 
-fn diag(quantity: &str, value: f64, limit: f64) -> Diagnosis {
+fn diag(kind: StopKind, value: f64, limit: f64) -> Diagnosis {
     Diagnosis {
-        kind: "k".into(),
+        kind,
         step: 7,
         t: 7e-3,
         body: Some(1),
-        quantity: quantity.into(),
         value,
         limit,
     }
@@ -230,17 +230,17 @@ fn diag(quantity: &str, value: f64, limit: f64) -> Diagnosis {
 #[test]
 fn diagnosis_reads_well_for_non_finite_values() {
     assert_eq!(
-        diag("state", f64::NAN, f64::MAX).to_string(),
-        "k at step 7 (t = 7e-3 s), body 1: state is NaN (must be finite)"
+        diag(StopKind::NonFiniteState, f64::NAN, f64::MAX).to_string(),
+        "non-finite state (position, velocity, orientation or spin is NaN or infinite) at step 7 (t = 7e-3 s), body 1: state is NaN (must be finite)"
     );
-    let mut energy = diag("energy", f64::INFINITY, f64::MAX);
+    let mut energy = diag(StopKind::NonFiniteEnergy, f64::INFINITY, f64::MAX);
     energy.body = None;
     assert_eq!(
         energy.to_string(),
-        "k at step 7 (t = 7e-3 s): energy is +inf (must be finite)"
+        "non-finite energy (the state has overflowed) at step 7 (t = 7e-3 s): energy is +inf (must be finite)"
     );
     assert_eq!(
-        diag("overlap / D", 0.25, 0.2).to_string(),
-        "k at step 7 (t = 7e-3 s), body 1: overlap / D = 2.500000e-1 exceeds the limit 2.000000e-1"
+        diag(StopKind::Overlap, 0.25, 0.2).to_string(),
+        "overlap beyond the Hertz range (impact too fast or dt too large) at step 7 (t = 7e-3 s), body 1: overlap / D = 2.500000e-1 exceeds the limit 2.000000e-1"
     );
 }

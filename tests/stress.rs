@@ -100,7 +100,7 @@ fn stress_spin_scalar_pole_is_named() {
     match &find(RotatorKind::Scalar, 64.0).verdict {
         // ‖ω‖δt/2 = 0.05 · 64 / 2 = 1.6 > π/2 on the first step.
         Verdict::Guard(d) => {
-            assert_eq!(d.quantity, "|omega| dt / 2");
+            assert_eq!(d.quantity(), "|omega| dt / 2");
             assert!(d.value >= d.limit && d.step == 0, "{d:?}");
         }
         v => panic!("expected the scalar pole guard, got {v:?}"),
@@ -130,7 +130,7 @@ fn soft_fibre_at_50_m_per_s_trips_the_overlap_guard() {
         .replace("dt = 5e-7", "dt = 1e-7");
     let scene = fibresim::scenario::parse_str(&text, "soft impact_50").unwrap();
     let d = fibresim::run::integrate(&scene, RotatorKind::Leapfrog, 1e-7).expect_err("must stop");
-    assert_eq!(d.quantity, "overlap / D", "{d}");
+    assert_eq!(d.quantity(), "overlap / D", "{d}");
     assert!(d.value > 0.2 && d.value < 0.21, "{d}");
 }
 
@@ -197,7 +197,7 @@ fn stopped_runs_report_the_error_at_the_stop() {
             assert!(run.energy_err_at_stop_pct.is_nan(), "{run:?}");
             continue;
         };
-        assert_eq!(d.quantity, "energy error %", "{d}");
+        assert_eq!(d.quantity(), "energy error %", "{d}");
         assert_eq!(run.energy_err_at_stop_pct, d.value, "{d}");
         assert_eq!(run.energy_err_pct, d.value, "{d}");
         assert!(run.energy_err_pct > d.limit);

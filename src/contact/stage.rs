@@ -8,7 +8,7 @@
 
 use super::broad::NeighbourList;
 use super::{contact_fibre_fibre, contact_fibre_wall, ContactPoint, FibreGeom, HertzLaw, Wall};
-use crate::body::{Body, BodyState, Shape};
+use crate::body::{Body, BodyState, Material, Shape};
 use crate::scenario::Walls;
 use glam::DVec3;
 
@@ -70,20 +70,30 @@ fn geom(body: &Body, s: &BodyState) -> FibreGeom {
 }
 
 impl ContactStage {
-    pub fn new(bodies: &[Body], walls: Option<&Walls>) -> Self {
+    pub fn new(bodies: &[Body], materials: &[Material], walls: Option<&Walls>) -> Self {
         let (walls, wall_law) = match walls {
             Some(w) => (
                 box_walls(w),
                 bodies
                     .iter()
                     .map(|b| {
-                        HertzLaw::fibre_wall(diameter(b), b.young, b.poisson, w.young, w.poisson)
+                        let m = &materials[b.material as usize];
+                        HertzLaw::fibre_wall(
+                            b.shape.diameter(),
+                            m.young,
+                            m.poisson,
+                            w.young,
+                            w.poisson,
+                        )
                     })
                     .collect(),
             ),
             None => (vec![], vec![]),
         };
-        let thinnest = bodies.iter().map(diameter).fold(f64::INFINITY, f64::min);
+        let thinnest = bodies
+            .iter()
+            .map(|b| b.shape.diameter())
+            .fold(f64::INFINITY, f64::min);
         ContactStage {
             walls,
             wall_law,
@@ -104,6 +114,7 @@ impl ContactStage {
     pub fn compute(
         &mut self,
         bodies: &[Body],
+        materials: &[Material],
         states: &[BodyState],
         force: &mut [DVec3],
         torque: &mut [DVec3],
@@ -156,13 +167,17 @@ impl ContactStage {
                 continue;
             }
             let (ba, bb) = (&bodies[a], &bodies[b]);
+            let (ma, mb) = (
+                &materials[ba.material as usize],
+                &materials[bb.material as usize],
+            );
             let law = HertzLaw::fibre_fibre(
-                diameter(ba),
-                ba.young,
-                ba.poisson,
-                diameter(bb),
-                bb.young,
-                bb.poisson,
+                ba.shape.diameter(),
+                ma.young,
+                ma.poisson,
+                bb.shape.diameter(),
+                mb.young,
+                mb.poisson,
             );
             apply(
                 &self.points,
@@ -175,12 +190,6 @@ impl ContactStage {
             );
         }
         self.stats = stats;
-    }
-}
-
-fn diameter(b: &Body) -> f64 {
-    match b.shape {
-        Shape::Fibre { diameter, .. } | Shape::Sphere { diameter } => diameter,
     }
 }
 
@@ -232,6 +241,7 @@ impl ContactStats {
 pub fn first_overlap(
     bodies: &[Body],
     states: &[BodyState],
+    _materials: &[Material],
     walls: Option<&Walls>,
 ) -> Option<(usize, Option<usize>, f64)> {
     let geoms: Vec<FibreGeom> = bodies.iter().zip(states).map(|(b, s)| geom(b, s)).collect();

@@ -1,6 +1,9 @@
-//! Time integration: the fixed step sequence ([`step`]), translation by velocity
-//! Verlet ([`verlet`]) and the quaternion rotators ([`rotate`]).
+//! Time integration: the state ([`world`]), the step as a stage sequence
+//! ([`scheme`], [`step`]), translation by velocity Verlet ([`verlet`]) and the
+//! quaternion rotators ([`rotate`]).
 
 pub mod rotate;
+pub mod scheme;
 pub mod step;
 pub mod verlet;
+pub mod world;

@@ -1,204 +1,181 @@
-//! The time step as a fixed sequence of stages (LAMMPS-style hooks):
-//! 1. translation half-kick and drift; 2. rotator `advance`;
-//! 3. forces at the new configuration (contacts, if the scene has any);
-//! 4. translation half-kick; rotator `finish`; 5. guards.
+//! One step: the rotator's stage sequence ([`crate::integrate::scheme`]) run
+//! on the [`World`], then the guards.
+//!
+//! For [`VERLET`](crate::integrate::scheme::VERLET), the step of every shipped
+//! rotator: 1. translation half-kick and drift, rotator `advance`; 2. forces
+//! at the new configuration (contacts, if the scene has any); 3. one closing
+//! pass: translation half-kick, rotator `finish`, the energy ledger and the
+//! per-body guard; 4. the scene guards.
 //!
 //! Integrators never compute forces; the force stage never moves bodies.
 
-use super::rotate::{Rotator, RotatorFault};
+pub use super::world::{StageTimes, World};
+
+use super::rotate::{AuxState, Rotator, RotatorFault};
+use super::scheme::Stage;
 use super::verlet;
 use crate::body::BodyState;
-use crate::contact::stage::{ContactStage, ContactStats};
 use crate::energy::{error_pct, Ledger};
-use crate::error::Diagnosis;
-use crate::scenario::Scene;
+use crate::scenario::build::Prescribed;
+use crate::stop::{Diagnosis, StopKind};
 use crate::torque::PrescribedTorque;
 use glam::DVec3;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// Largest accepted drift of a quaternion's norm from 1 (rounding only: every
 /// rotator keeps `‖q‖ = 1` by construction or by its own renormalisation).
 pub const QUAT_NORM_TOLERANCE: f64 = 1e-9;
 
-/// The evolving state of a scene, kept apart from the step logic.
-#[derive(Debug, Clone)]
-pub struct World<'s> {
-    pub scene: &'s Scene,
-    pub states: Vec<BodyState>,
-    /// Latest contact force and torque per body (world frame), at `states`.
-    pub force: Vec<DVec3>,
-    pub torque: Vec<DVec3>,
-    /// Elastic energy of the live contacts at `states`.
-    pub elastic: f64,
-    /// Number of completed steps; the time is `step · δt`.
-    pub step: u64,
-    /// The contact force stage; `None` when nothing can touch (SPEC §7).
-    pub contacts: Option<ContactStage>,
-    /// Energy ledger at `states` (updated every step: the energy guard reads it).
-    pub ledger: Ledger,
-    /// Full-budget energy at step 0.
-    pub e0_full: f64,
-    /// Whether the energy guard applies: prescribed torques do work, so
-    /// energy is a conserved budget only without them.
-    energy_guarded: bool,
-    /// Stage timers (rapier-style), off unless a benchmark turns them on: two
-    /// clock reads per stage per step are not free.
-    pub timers: Option<StageTimes>,
+/// The `len` doubles of body `i` in a flat per-body array.
+#[inline]
+fn slot(aux: &mut [f64], i: usize, len: usize) -> &mut [f64] {
+    &mut aux[i * len..(i + 1) * len]
 }
 
-/// Wall time spent in each stage of the step, summed over steps.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct StageTimes {
-    /// Verlet and rotators (stages 1, 2, 4).
-    pub integrate: std::time::Duration,
-    /// Broad phase, kernels, Hertz (stage 3).
-    pub forces: std::time::Duration,
-    /// Energy ledger and guards (stage 5).
-    pub guards: std::time::Duration,
+/// The prescribed torque of body `i`, if it has one: `next` walks the sparse,
+/// ordered list alongside the bodies.
+#[inline]
+fn prescribed_at<'a>(
+    next: &mut std::iter::Peekable<std::slice::Iter<'a, Prescribed>>,
+    i: usize,
+) -> Option<&'a PrescribedTorque> {
+    next.next_if(|p| p.body == i).map(|p| &p.torque)
 }
 
 impl<'s> World<'s> {
-    pub fn new(scene: &'s Scene) -> Self {
-        let n = scene.bodies.len();
-        let mut w = World {
-            scene,
-            states: scene.initial.clone(),
-            force: vec![DVec3::ZERO; n],
-            torque: vec![DVec3::ZERO; n],
-            elastic: 0.0,
-            step: 0,
-            contacts: scene
-                .needs_contacts()
-                .then(|| ContactStage::new(&scene.bodies, scene.walls.as_ref())),
-            ledger: Ledger::default(),
-            e0_full: 0.0,
-            energy_guarded: !scene.has_prescribed_torque(),
-            timers: None,
-        };
-        w.compute_forces();
-        w.ledger = w.measure();
-        w.e0_full = w.ledger.total_full();
-        w
-    }
-
-    /// Put the world at `step` with `states` (resuming from a checkpoint): the
-    /// forces and the ledger are recomputed from the states, exactly as the
-    /// step that produced them did.
-    pub fn restore(&mut self, states: Vec<BodyState>, step: u64) {
-        self.states = states;
-        self.step = step;
-        self.compute_forces();
-        self.ledger = self.measure();
-    }
-
-    #[inline]
-    fn measure(&self) -> Ledger {
-        Ledger::measure(
-            &self.scene.bodies,
-            &self.states,
-            self.scene.gravity,
-            self.elastic,
-        )
-    }
-
-    pub fn time(&self) -> f64 {
-        self.step as f64 * self.scene.sim.dt
-    }
-
-    /// Stage 3: forces and torques at the current configuration. Without
-    /// contacts there is nothing to compute (gravity enters as an acceleration).
-    fn compute_forces(&mut self) {
-        if let Some(c) = &mut self.contacts {
-            c.compute(
-                &self.scene.bodies,
-                &self.states,
-                &mut self.force,
-                &mut self.torque,
-            );
-            self.elastic = c.stats.elastic;
-        }
-    }
-
-    /// What the contact stage saw at the current configuration.
-    pub fn contact_stats(&self) -> Option<ContactStats> {
-        self.contacts.as_ref().map(|c| c.stats)
-    }
-
     /// Advance one step with rotator `R`. The diagnosis is boxed: a stop is
     /// rare, and a one-word `Result` keeps a 100-byte copy out of every step
     /// (10 ns of a 35 ns single-body step, `benches/rotators.rs`).
     pub fn step<R: Rotator>(&mut self) -> Result<(), Box<Diagnosis>> {
-        let dt = self.scene.sim.dt;
-        let t_n = self.step as f64 * dt;
-        let t_next = (self.step + 1) as f64 * dt;
-        let scene = self.scene;
-        let g = scene.gravity.unwrap_or(DVec3::ZERO);
-        let clock = self.timers.map(|_| Instant::now());
-
-        // Stages 1–2: half-kick and drift, rotator `advance`.
-        let bodies = scene.bodies.iter().zip(&scene.torques);
-        let loads = self.force.iter().zip(&self.torque);
-        for (i, ((s, (body, prescribed)), (&f, &contact))) in
-            self.states.iter_mut().zip(bodies).zip(loads).enumerate()
-        {
-            verlet::kick_drift(&mut s.x, &mut s.v, f * body.inv_mass + g, dt);
-            R::advance(
-                &mut s.rot,
-                &body.inertia,
-                torque_source(prescribed, contact),
-                t_n,
-                dt,
-            )
-            .map_err(|fault| Box::new(fault_diagnosis(fault, i, self.step, t_n)))?;
+        const { assert!(super::scheme::is_valid(R::STAGES)) };
+        if R::Aux::LEN > 0 && self.aux.len() != R::Aux::LEN * self.states.len() {
+            self.start_aux::<R>();
         }
-
-        // Stage 3: forces at the new configuration.
-        let clock_forces = clock.map(|_| Instant::now());
-        self.compute_forces();
-        let clock_after = clock.map(|_| Instant::now());
-
-        // Stage 4, in one pass with the ledger of the finished state: closing
-        // half-kick, rotator `finish`, energy terms, per-body soundness.
-        let mut ledger = Ledger {
-            elastic: self.elastic,
-            ..Ledger::default()
-        };
+        let clock = self.timers.map(|_| Instant::now());
+        let mut forces_time = Duration::ZERO;
+        let last = R::STAGES.len() - 1;
         let mut sound = true;
-        let bodies = scene.bodies.iter().zip(&scene.torques);
-        let loads = self.force.iter().zip(&self.torque);
-        for ((s, (body, prescribed)), (&f, &contact)) in
-            self.states.iter_mut().zip(bodies).zip(loads)
-        {
-            verlet::kick(&mut s.v, f * body.inv_mass + g, dt);
-            if R::INFO.kick_drift_kick {
-                let torque = torque_source(prescribed, contact);
-                R::finish(&mut s.rot, &body.inertia, torque, t_next, dt);
+        for (k, stage) in R::STAGES.iter().enumerate() {
+            match *stage {
+                Stage::Open { start, h } => self.open::<R>(start, h)?,
+                Stage::Forces => match clock {
+                    None => self.compute_forces(),
+                    Some(_) => {
+                        let c = Instant::now();
+                        self.compute_forces();
+                        forces_time += c.elapsed();
+                    }
+                },
+                Stage::Close { end, h } => sound = self.close::<R>(end, h, k == last),
             }
-            ledger.add_body(body, s, g);
-            sound &= body_is_sound(s);
         }
         self.step += 1;
-        self.ledger = ledger;
 
-        // Stage 5: guards.
         let clock_guards = clock.map(|_| Instant::now());
         let verdict = if sound && self.scene_is_sound() {
             Ok(())
         } else {
             self.diagnose_state().map_or(Ok(()), |d| Err(Box::new(d)))
         };
-        if let (Some(t), Some(c0), Some(c1), Some(c2), Some(c3)) = (
-            &mut self.timers,
-            clock,
-            clock_forces,
-            clock_after,
-            clock_guards,
-        ) {
-            t.integrate += (c1 - c0) + (c3 - c2);
-            t.forces += c2 - c1;
-            t.guards += c3.elapsed();
+        if let (Some(t), Some(c0), Some(c1)) = (&mut self.timers, clock, clock_guards) {
+            t.integrate += (c1 - c0) - forces_time;
+            t.forces += forces_time;
+            t.guards += c1.elapsed();
         }
         verdict
+    }
+
+    /// One step with the rotator `kind`, dispatched at every call (for tests
+    /// and tools; a run dispatches once, see [`crate::run::drive`]).
+    pub fn step_kind(&mut self, kind: super::rotate::RotatorKind) -> Result<(), Box<Diagnosis>> {
+        struct One<'a, 'w, 's>(&'a mut World<'s>, std::marker::PhantomData<&'w ()>);
+        impl super::rotate::RotatorVisitor for One<'_, '_, '_> {
+            type Output = Result<(), Box<Diagnosis>>;
+            fn visit<R: Rotator>(self) -> Self::Output {
+                self.0.step::<R>()
+            }
+        }
+        kind.visit(One(self, std::marker::PhantomData))
+    }
+
+    /// The rotator's auxiliary state at the start of a run.
+    fn start_aux<R: Rotator>(&mut self) {
+        let len = R::Aux::LEN;
+        self.aux = vec![0.0; len * self.states.len()];
+        for (i, (s, b)) in self.states.iter().zip(&self.scene.bodies).enumerate() {
+            R::start(&s.rot, &b.inertia).write(slot(&mut self.aux, i, len));
+        }
+    }
+
+    /// An opening stage: half-kick and drift, rotator `advance`, over
+    /// `[t_n + start·δt, +h·δt]`.
+    #[inline]
+    fn open<R: Rotator>(&mut self, start: f64, h: f64) -> Result<(), Box<Diagnosis>> {
+        let scene = self.scene;
+        let dt = h * scene.sim.dt();
+        let t = (self.step as f64 + start) * scene.sim.dt();
+        let g = scene.gravity.unwrap_or(DVec3::ZERO);
+        let len = R::Aux::LEN;
+        let mut prescribed = scene.torques.iter().peekable();
+        let loads = self.force.iter().zip(&self.torque);
+        for (i, ((s, body), (&f, &contact))) in self
+            .states
+            .iter_mut()
+            .zip(&scene.bodies)
+            .zip(loads)
+            .enumerate()
+        {
+            verlet::kick_drift(&mut s.x, &mut s.v, f * body.inv_mass + g, dt);
+            let aux = slot(&mut self.aux, i, len);
+            let mut a = R::Aux::read(aux);
+            let torque = torque_source(prescribed_at(&mut prescribed, i), contact);
+            R::advance(&mut s.rot, &mut a, &body.inertia, torque, t, dt)
+                .map_err(|fault| Box::new(fault_diagnosis(fault, scene.ids[i], self.step, t)))?;
+            a.write(aux);
+        }
+        Ok(())
+    }
+
+    /// A closing stage at `t_n + end·δt`: half-kick, rotator `finish`. The
+    /// step's last one also measures the ledger of the finished state and
+    /// the per-body guard, in the same pass, and says whether every body
+    /// passed it.
+    #[inline]
+    fn close<R: Rotator>(&mut self, end: f64, h: f64, last: bool) -> bool {
+        let scene = self.scene;
+        let dt = h * scene.sim.dt();
+        let t_end = (self.step as f64 + end) * scene.sim.dt();
+        let g = scene.gravity.unwrap_or(DVec3::ZERO);
+        let len = R::Aux::LEN;
+        let mut ledger = Ledger {
+            elastic: self.elastic(),
+            ..Ledger::default()
+        };
+        let mut sound = true;
+        let mut prescribed = scene.torques.iter().peekable();
+        let loads = self.force.iter().zip(&self.torque);
+        for (i, ((s, body), (&f, &contact))) in self
+            .states
+            .iter_mut()
+            .zip(&scene.bodies)
+            .zip(loads)
+            .enumerate()
+        {
+            verlet::kick(&mut s.v, f * body.inv_mass + g, dt);
+            let aux = slot(&mut self.aux, i, len);
+            let mut a = R::Aux::read(aux);
+            let torque = torque_source(prescribed_at(&mut prescribed, i), contact);
+            R::finish(&mut s.rot, &mut a, &body.inertia, torque, t_end, dt);
+            a.write(aux);
+            if last {
+                ledger.add_body(body, s, g);
+                sound &= body_is_sound(s);
+            }
+        }
+        if last {
+            self.ledger = ledger;
+        }
+        sound
     }
 
     /// The scene-wide guards (overlap, energy) of the fast path; the
@@ -223,49 +200,35 @@ impl<'s> World<'s> {
     #[inline(never)]
     fn diagnose_state(&self) -> Option<Diagnosis> {
         let guards = &self.scene.guards;
-        let diag =
-            |kind: &str, body: Option<usize>, quantity: &str, value: f64, limit: f64| Diagnosis {
-                kind: kind.into(),
-                step: self.step,
-                t: self.time(),
-                body,
-                quantity: quantity.into(),
-                value,
-                limit,
-            };
+        let ids = &self.scene.ids;
+        let diag = |kind: StopKind, body: Option<usize>, value: f64, limit: f64| Diagnosis {
+            kind,
+            step: self.step,
+            t: self.time(),
+            body: body.map(|i| ids[i]),
+            value,
+            limit,
+        };
         for (i, s) in self.states.iter().enumerate() {
             let finite = s.x.is_finite()
                 && s.v.is_finite()
                 && s.rot.q.is_finite()
                 && s.rot.omega_b.is_finite();
             if !finite {
-                return Some(diag(
-                    "non-finite state (position, velocity, orientation or spin is NaN or infinite)",
-                    Some(i),
-                    "state",
-                    f64::NAN,
-                    f64::MAX,
-                ));
+                return Some(diag(StopKind::NonFiniteState, Some(i), f64::NAN, f64::MAX));
             }
         }
         // A state can be finite while its energy overflows (|ω| ~ 1e154): stop
         // there, before such rows reach the outputs.
         let energy = self.ledger.total_full();
         if !energy.is_finite() {
-            return Some(diag(
-                "non-finite energy (the state has overflowed)",
-                None,
-                "energy",
-                energy,
-                f64::MAX,
-            ));
+            return Some(diag(StopKind::NonFiniteEnergy, None, energy, f64::MAX));
         }
         if let Some(c) = self.contact_stats() {
             if c.max_overlap_ratio > guards.overlap_ratio {
                 return Some(diag(
-                    "overlap beyond the Hertz range (impact too fast or dt too large)",
+                    StopKind::Overlap,
                     Some(c.max_overlap_body),
-                    "overlap / D",
                     c.max_overlap_ratio,
                     guards.overlap_ratio,
                 ));
@@ -274,9 +237,8 @@ impl<'s> World<'s> {
         let err = error_pct(energy, self.e0_full);
         if err > guards.energy_error_pct && self.energy_guarded {
             return Some(diag(
-                "energy blow-up (full-budget energy error above the limit)",
+                StopKind::EnergyBlowUp,
                 None,
-                "energy error %",
                 err,
                 guards.energy_error_pct,
             ));
@@ -287,9 +249,8 @@ impl<'s> World<'s> {
                 // A renormalising scheme whose update overflowed (Euler's
                 // `normalize` of an infinite quaternion gives 0).
                 return Some(diag(
-                    "degenerate orientation (the rotation update overflowed)",
+                    StopKind::DegenerateOrientation,
                     Some(i),
-                    "| ||q|| - 1 |",
                     (norm - 1.0).abs(),
                     QUAT_NORM_TOLERANCE,
                 ));
@@ -297,9 +258,8 @@ impl<'s> World<'s> {
             let drift = (norm - 1.0).abs();
             if drift > QUAT_NORM_TOLERANCE {
                 return Some(diag(
-                    "quaternion norm drift",
+                    StopKind::QuatNormDrift,
                     Some(i),
-                    "| ||q|| - 1 |",
                     drift,
                     QUAT_NORM_TOLERANCE,
                 ));
@@ -322,23 +282,23 @@ fn body_is_sound(s: &BodyState) -> bool {
 }
 
 /// The torque a rotator asks for at time `t`: the body's prescribed torque,
-/// if any, evaluated there, plus the latest computed contact torque (SPEC §4).
+/// if any, evaluated there, plus the latest computed contact torque
+/// (docs/physics.md §4).
 #[inline]
 fn torque_source(
-    prescribed: &Option<PrescribedTorque>,
+    prescribed: Option<&PrescribedTorque>,
     contact: DVec3,
 ) -> impl Fn(f64) -> DVec3 + '_ {
-    move |t| prescribed.as_ref().map_or(DVec3::ZERO, |p| p.at(t)) + contact
+    move |t| prescribed.map_or(DVec3::ZERO, |p| p.at(t)) + contact
 }
 
-fn fault_diagnosis(fault: RotatorFault, body: usize, step: u64, t: f64) -> Diagnosis {
+fn fault_diagnosis(fault: RotatorFault, body: u64, step: u64, t: f64) -> Diagnosis {
     match fault {
         RotatorFault::ScalarSingularity { half_angle } => Diagnosis {
-            kind: "scalar-factor singularity (tan pole of Eq. 41); reduce dt or use pcdm".into(),
+            kind: StopKind::ScalarSingularity,
             step,
             t,
             body: Some(body),
-            quantity: "|omega| dt / 2".into(),
             value: half_angle,
             limit: std::f64::consts::FRAC_PI_2,
         },

@@ -1,16 +1,21 @@
-//! Observers of the step: CSV files and the JSON summary.
+//! Observers of the driver loop that write files: `energy.csv`,
+//! `orientation.csv`, `summary.json`, checkpoints, and the progress bar.
 //!
 //! Numbers are written in their shortest round-trip form (ryu), so files are
 //! exact, compact and identical for identical runs.
 
 pub mod checkpoint;
-pub mod csv_out;
+pub mod energy;
+pub mod file;
+pub mod orientation;
+pub mod progress;
 pub mod summary;
 
-pub use checkpoint::Checkpoint;
-pub use csv_out::{EnergyCsv, EnergyStats, OrientationCsv};
-pub use summary::{BodyFinal, Summary};
-
+pub use checkpoint::{Checkpoint, CheckpointFile};
+pub use energy::EnergyCsv;
+pub use orientation::OrientationCsv;
+pub use progress::Progress;
+pub use summary::{BodyFinal, Summary, SummaryJson};
 /// Create an output folder; failure is bad input naming `--out`.
 pub fn create_out_dir(dir: &std::path::Path) -> crate::error::Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| {

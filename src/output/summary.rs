@@ -1,12 +1,16 @@
 //! `summary.json`: one object per run, for scripts.
 
-use crate::error::{Diagnosis, Error, Result};
+use crate::error::{Error, Result};
+use crate::math::wxyz;
+use crate::run::observer::{Observer, RunEnd, View};
+use crate::stop::Diagnosis;
 use serde::Serialize;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 #[derive(Debug, Clone, Serialize)]
 pub struct BodyFinal {
-    pub body: usize,
+    /// Global body id.
+    pub body: u64,
     /// `[w, x, y, z]`.
     pub q: [f64; 4],
     pub x: [f64; 3],
@@ -51,8 +55,90 @@ pub fn finite(x: f64) -> Option<f64> {
 }
 
 impl Summary {
+    /// The summary of the run `v` ended as `end`, with rows every `every` steps.
+    pub fn of(v: &View, end: &RunEnd, every: u64) -> Self {
+        let (world, stats) = (v.world, v.stats);
+        let scene = world.scene;
+        let sim = &scene.sim;
+        let (ref_err, ref_x_err) = match scene.reference.as_ref() {
+            Some(r) if end.stopped.is_none() => {
+                let q_ref = r.orientation(world.time(), scene.initial[0].rot.q);
+                let q = world.states[0].rot.q;
+                let ax = (q * glam::DVec3::X).x;
+                let rx = (q_ref * glam::DVec3::X).x;
+                (
+                    Some(crate::math::geodesic_angle(q, q_ref)),
+                    Some(((ax - rx) / rx).abs() * 100.0),
+                )
+            }
+            _ => (None, None),
+        };
+        let body_steps =
+            ((world.step - end.first_step) as f64 * scene.bodies.len() as f64).max(1.0);
+        Summary {
+            scenario: scene.source.clone(),
+            rotator: sim.rotator().name().to_string(),
+            dt: sim.dt(),
+            steps: world.step,
+            steps_planned: sim.steps(),
+            t_end: sim.t_end(),
+            every,
+            bodies: scene.bodies.len(),
+            wall_s: end.wall_s,
+            ns_per_body_step: end.wall_s * 1e9 / body_steps,
+            energy_error_max_pct: finite(stats.max_error).filter(|_| stats.last_error.is_finite()),
+            energy_error_final_pct: finite(stats.last_error),
+            energy_error_full_max_pct: finite(stats.max_error_full)
+                .filter(|_| stats.last_error_full.is_finite()),
+            energy_error_full_final_pct: finite(stats.last_error_full),
+            max_overlap_ratio: world.contacts.is_some().then_some(stats.max_overlap_ratio),
+            reference_error_final_rad: ref_err,
+            reference_x_error_pct: ref_x_err,
+            stopped: end.stopped.cloned(),
+            final_state: world
+                .states
+                .iter()
+                .zip(&scene.ids)
+                .map(|(s, &id)| BodyFinal {
+                    body: id,
+                    q: wxyz(s.rot.q),
+                    x: s.x.to_array(),
+                    v: s.v.to_array(),
+                    omega_body: s.rot.omega_b.to_array(),
+                })
+                .collect(),
+        }
+    }
+
     pub fn write(&self, path: &Path) -> Result<()> {
         let text = serde_json::to_string_pretty(self).expect("summary serialises");
         std::fs::write(path, text + "\n").map_err(|e| Error::io(path, e))
+    }
+}
+
+/// The observer that writes `summary.json` when the run ends (also after a
+/// stop), and keeps the summary for the caller.
+pub struct SummaryJson {
+    path: PathBuf,
+    every: u64,
+    pub summary: Option<Summary>,
+}
+
+impl SummaryJson {
+    pub fn new(dir: &Path, every: u64) -> Self {
+        SummaryJson {
+            path: dir.join("summary.json"),
+            every,
+            summary: None,
+        }
+    }
+}
+
+impl Observer for SummaryJson {
+    fn finish(&mut self, v: &View, end: &RunEnd) -> Result<()> {
+        let s = Summary::of(v, end, self.every);
+        s.write(&self.path)?;
+        self.summary = Some(s);
+        Ok(())
     }
 }

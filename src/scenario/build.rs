@@ -4,7 +4,7 @@
 //! contact search for a single body without walls (SPEC §7).
 
 use super::file::{BodySection, ReferenceSection, ScenarioFile, ShapeName};
-use crate::body::{Body, BodyState, RotState, Shape};
+use crate::body::{Body, BodyState, Material, MaterialId, RotState, Shape};
 use crate::error::{Error, Result};
 use crate::integrate::rotate::RotatorKind;
 use crate::torque::PrescribedTorque;
@@ -14,14 +14,14 @@ use std::path::Path;
 /// Bodies (any point of them) must move slower than this, m/s.
 pub const SPEED_OF_LIGHT: f64 = 299_792_458.0;
 
-/// Numerical parameters of a run.
+/// Numerical parameters of a run, checked: made only by [`SimParams::new`]
+/// or [`SimParams::with_steps`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimParams {
-    pub dt: f64,
-    pub steps: u64,
-    pub rotator: RotatorKind,
-    /// Output cadence; `None` = the default (at most ~1e5 rows).
-    pub every: Option<u64>,
+    dt: f64,
+    steps: u64,
+    rotator: RotatorKind,
+    every: Option<u64>,
 }
 
 impl SimParams {
@@ -78,6 +78,65 @@ impl SimParams {
             rotator,
             every,
         })
+    }
+
+    /// `steps` steps of `dt` (the studies' sweeps, which round a t_end up
+    /// to whole steps themselves).
+    pub fn with_steps(
+        dt: f64,
+        steps: u64,
+        rotator: RotatorKind,
+        every: Option<u64>,
+    ) -> Result<Self> {
+        if !(dt.is_finite() && dt > 0.0) || steps == 0 || every == Some(0) {
+            return Err(Error::bad(
+                "parameters",
+                "dt",
+                format!(
+                    "need dt > 0, at least one step and every >= 1 (dt = {dt:e}, {steps} steps)"
+                ),
+            ));
+        }
+        Ok(SimParams {
+            dt,
+            steps,
+            rotator,
+            every,
+        })
+    }
+
+    /// The same parameters with another rotator.
+    pub fn with_rotator(&self, rotator: RotatorKind) -> Self {
+        SimParams {
+            rotator,
+            ..self.clone()
+        }
+    }
+
+    /// Time step δt, s.
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    /// Steps to run.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    pub fn rotator(&self) -> RotatorKind {
+        self.rotator
+    }
+
+    /// Output cadence as given; `None` = the default.
+    pub fn every(&self) -> Option<u64> {
+        self.every
+    }
+
+    /// Output cadence: as given, else at most 2e4 rows
+    /// ([`crate::output::default_every`]).
+    pub fn every_or_default(&self) -> u64 {
+        self.every
+            .unwrap_or_else(|| crate::output::default_every(self.steps))
     }
 
     pub fn t_end(&self) -> f64 {
@@ -144,6 +203,14 @@ impl ClosedForm {
     }
 }
 
+/// A prescribed world torque on one body.
+#[derive(Debug, Clone)]
+pub struct Prescribed {
+    /// Storage index of the body.
+    pub body: usize,
+    pub torque: PrescribedTorque,
+}
+
 /// A checked scene, ready to run.
 #[derive(Debug, Clone)]
 pub struct Scene {
@@ -152,10 +219,17 @@ pub struct Scene {
     /// The scenario text as read (embedded in checkpoints).
     pub text: String,
     pub sim: SimParams,
+    /// Per-body constants, by storage index.
     pub bodies: Vec<Body>,
+    /// Stable global id of each body (the `body` column of the outputs,
+    /// diagnoses, checkpoints), by storage index.
+    pub ids: Vec<u64>,
+    /// Each body's `name`, by storage index.
+    pub names: Vec<String>,
+    pub materials: Vec<Material>,
     pub initial: Vec<BodyState>,
-    /// Prescribed world torque per body (`None` = no prescribed torque).
-    pub torques: Vec<Option<PrescribedTorque>>,
+    /// Prescribed torques, sparse, in storage order of their bodies.
+    pub torques: Vec<Prescribed>,
     pub gravity: Option<DVec3>,
     pub walls: Option<Walls>,
     pub reference: Option<ClosedForm>,
@@ -169,7 +243,12 @@ impl Scene {
     }
 
     pub fn has_prescribed_torque(&self) -> bool {
-        self.torques.iter().any(Option::is_some)
+        !self.torques.is_empty()
+    }
+
+    /// The material of body `i`.
+    pub fn material(&self, i: usize) -> &Material {
+        &self.materials[self.bodies[i].material as usize]
     }
 }
 
@@ -293,13 +372,18 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
     }
     let needs_contacts = walls.is_some() || raw.body.len() > 1;
     let mut bodies = Vec::with_capacity(raw.body.len());
+    let mut names = Vec::with_capacity(raw.body.len());
     let mut initial = Vec::with_capacity(raw.body.len());
-    let mut torques = Vec::with_capacity(raw.body.len());
+    let mut torques = vec![];
+    let mut materials = Materials::default();
     for (i, b) in raw.body.iter().enumerate() {
-        let (body, state, torque) = build_body(&cx, &raw, i, b, needs_contacts)?;
+        let (body, state, torque) = build_body(&cx, &raw, i, b, needs_contacts, &mut materials)?;
         bodies.push(body);
+        names.push(b.name.clone().unwrap_or_else(|| format!("body{i}")));
         initial.push(state);
-        torques.push(torque);
+        if let Some(torque) = torque {
+            torques.push(Prescribed { body: i, torque });
+        }
     }
 
     if let Some(w) = &walls {
@@ -310,7 +394,7 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
                     &format!("body[{i}].position"),
                     format!(
                         "body `{}` (bounds {lo} .. {hi}) does not fit inside the box {} .. {}; move it inside",
-                        b.name, w.min, w.max
+                        names[i], w.min, w.max
                     ),
                 ));
             }
@@ -318,18 +402,21 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
     }
 
     if needs_contacts {
-        if let Some((i, other, overlap)) =
-            crate::contact::stage::first_overlap(&bodies, &initial, walls.as_ref())
-        {
+        if let Some((i, other, overlap)) = crate::contact::stage::first_overlap(
+            &bodies,
+            &initial,
+            &materials.table,
+            walls.as_ref(),
+        ) {
             let with = match other {
-                Some(j) => format!("body[{j}] `{}`", bodies[j].name),
+                Some(j) => format!("body[{j}] `{}`", names[j]),
                 None => "a wall".to_string(),
             };
             return Err(cx.err(
                 &format!("body[{i}].position"),
                 format!(
                     "body `{}` overlaps {with} by {overlap:e} m at the start; move the bodies apart",
-                    bodies[i].name
+                    names[i]
                 ),
             ));
         }
@@ -353,7 +440,10 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
         source: src.to_string(),
         text: String::new(),
         sim,
+        ids: (0..bodies.len() as u64).collect(),
         bodies,
+        names,
+        materials: materials.table,
         initial,
         torques,
         gravity,
@@ -392,9 +482,9 @@ fn build_body(
     i: usize,
     b: &BodySection,
     needs_contacts: bool,
+    materials: &mut Materials,
 ) -> Result<(Body, BodyState, Option<PrescribedTorque>)> {
     let key = |k: &str| format!("body[{i}].{k}");
-    let name = b.name.clone().unwrap_or_else(|| format!("body{i}"));
     let diameter = cx.positive(&key("diameter"), b.diameter)?;
     let shape = match (b.shape, b.length) {
         (ShapeName::Fibre, Some(l)) => Shape::Fibre {
@@ -527,7 +617,8 @@ fn build_body(
         }
         None => None,
     };
-    let body = Body::new(name, shape, density, young, poisson);
+    let material = materials.intern(b.material.as_deref(), density, young, poisson);
+    let body = Body::new(shape, material, density);
     let state = BodyState {
         x,
         v,
@@ -539,12 +630,47 @@ fn build_body(
     Ok((body, state, torque))
 }
 
+/// The scene's material table: named `[material.NAME]` tables in the order
+/// bodies first use them, and inline values, one entry per distinct set.
+#[derive(Default)]
+struct Materials {
+    table: Vec<Material>,
+}
+
+impl Materials {
+    fn intern(&mut self, name: Option<&str>, density: f64, young: f64, poisson: f64) -> MaterialId {
+        let same = |m: &Material| match name {
+            Some(n) => m.name == n,
+            None => {
+                m.name.starts_with("inline-")
+                    && [m.density, m.young, m.poisson].map(f64::to_bits)
+                        == [density, young, poisson].map(f64::to_bits)
+            }
+        };
+        if let Some(k) = self.table.iter().position(same) {
+            return k as MaterialId;
+        }
+        let inline = self
+            .table
+            .iter()
+            .filter(|m| m.name.starts_with("inline-"))
+            .count();
+        self.table.push(Material {
+            name: name.map_or_else(|| format!("inline-{inline}"), str::to_string),
+            density,
+            young,
+            poisson,
+        });
+        (self.table.len() - 1) as MaterialId
+    }
+}
+
 fn build_reference(
     cx: &Ctx,
     r: &ReferenceSection,
     bodies: &[Body],
     initial: &[BodyState],
-    torques: &[Option<PrescribedTorque>],
+    torques: &[Prescribed],
 ) -> Result<ClosedForm> {
     if r.closed_form != "exp-torque-sphere" {
         return Err(cx.err(
@@ -573,7 +699,7 @@ fn build_reference(
         ));
     }
     // The declared closed form must describe the declared torque: check it.
-    let torque = torques[0].as_ref().ok_or_else(|| {
+    let torque = torques.first().map(|p| &p.torque).ok_or_else(|| {
         cx.err(
             "reference",
             "exp-torque-sphere needs a prescribed torque on the sphere",

@@ -89,14 +89,14 @@ impl Metric {
 const REF_FACTOR: u64 = 10;
 
 pub fn compare(scene: &Scene, opts: &CompareOptions) -> Result<CompareReport> {
-    let dt = opts.dt.unwrap_or(scene.sim.dt);
+    let dt = opts.dt.unwrap_or(scene.sim.dt());
     let t_end = opts.t_end.unwrap_or(scene.sim.t_end());
     let scenes: Vec<Scene> = opts
         .rotators
         .iter()
         .map(|&k| with_params(scene, k, dt, t_end))
         .collect::<Result<_>>()?;
-    let steps = scenes[0].sim.steps;
+    let steps = scenes[0].sim.steps();
     let nb = scene.bodies.len() as u64;
     let torque_scene = scene.has_prescribed_torque() || scene.reference.is_some();
     let metric = match (torque_scene, scene.reference.is_some()) {
@@ -119,19 +119,18 @@ pub fn compare(scene: &Scene, opts: &CompareOptions) -> Result<CompareReport> {
         scenes
             .par_iter()
             .map(|s| {
-                let name = s.sim.rotator.name();
+                let name = s.sim.rotator().name();
                 let ro = RunOptions {
                     out_dir: opts.out_dir.join(name),
-                    every: None,
                     progress: false,
                     checkpoint_every: None,
                 };
                 let t0 = Instant::now();
-                let r = run_with_bar(s, &ro, progress.run_bar(name, s.sim.steps));
+                let r = run_with_bar(s, &ro, progress.run_bar(name, s.sim.steps()));
                 let wall = t0.elapsed().as_secs_f64();
-                progress.done(s.sim.steps * nb);
+                progress.done(s.sim.steps() * nb);
                 match r {
-                    Ok(o) => Ok((o.summary.wall_s, o.summary.ns_per_body_step, None)),
+                    Ok(o) => Ok((o.wall_s, o.ns_per_body_step, None)),
                     Err(Error::Unstable(d)) => {
                         let body_steps = (d.step.max(1) * nb) as f64;
                         Ok((wall, wall * 1e9 / body_steps, Some(d.to_string())))
@@ -147,8 +146,8 @@ pub fn compare(scene: &Scene, opts: &CompareOptions) -> Result<CompareReport> {
             return Ok(None);
         }
         let fine = with_params(scene, RotatorKind::Rk4, dt / REF_FACTOR as f64, t_end)?;
-        let bar = progress.run_bar("rk4 reference", fine.sim.steps);
-        let tick = super::tick(fine.sim.steps);
+        let bar = progress.run_bar("rk4 reference", fine.sim.steps());
+        let tick = super::tick(fine.sim.steps());
         let mut q: Vec<DQuat> = scene.initial.iter().map(|b| b.rot.q).collect();
         let r = integrate_observed(&fine, |w| {
             if w.step % REF_FACTOR == 0 {
@@ -163,7 +162,7 @@ pub fn compare(scene: &Scene, opts: &CompareOptions) -> Result<CompareReport> {
         if let Some(b) = bar {
             b.finish_and_clear();
         }
-        progress.done(fine.sim.steps * nb);
+        progress.done(fine.sim.steps() * nb);
         r.map_err(Error::Unstable)?;
         Ok(Some(q))
     };
@@ -174,7 +173,7 @@ pub fn compare(scene: &Scene, opts: &CompareOptions) -> Result<CompareReport> {
     let mut rows = Vec::new();
     for (s, timing) in scenes.iter().zip(timings) {
         let (wall_s, ns, stopped) = timing?;
-        let kind = s.sim.rotator;
+        let kind = s.sim.rotator();
         let dir = opts.out_dir.join(kind.name());
         let (t, err) = match metric {
             Metric::Energy => {

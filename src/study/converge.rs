@@ -264,8 +264,8 @@ pub fn converge(scene: &Scene, opts: &ConvergeOptions) -> Result<ConvergeReport>
     let start = Instant::now();
     crate::output::create_out_dir(&opts.out_dir)?;
     let t_end = opts.t_end.unwrap_or(scene.sim.t_end());
-    let dt_max = opts.dt_max.unwrap_or(10.0 * scene.sim.dt);
-    let dt_min = opts.dt_min.unwrap_or(0.1 * scene.sim.dt);
+    let dt_max = opts.dt_max.unwrap_or(10.0 * scene.sim.dt());
+    let dt_min = opts.dt_min.unwrap_or(0.1 * scene.sim.dt());
     let mode = if scene.has_prescribed_torque() || scene.reference.is_some() {
         Mode::Orientation
     } else {
@@ -287,8 +287,8 @@ pub fn converge(scene: &Scene, opts: &ConvergeOptions) -> Result<ConvergeReport>
         let fine = with_params(scene, RotatorKind::Rk4, dt_ref, t_end)?;
         let coarse = with_params(scene, RotatorKind::Rk4, 2.0 * dt_ref, t_end)?;
         let sample = |s: &Scene, every: u64, label: &str| {
-            let bar = progress.run_bar(label, s.sim.steps);
-            let t = tick(s.sim.steps);
+            let bar = progress.run_bar(label, s.sim.steps());
+            let t = tick(s.sim.steps());
             let mut q: Vec<DQuat> = scene.initial.iter().map(|b| b.rot.q).collect();
             let t0 = Instant::now();
             let r = integrate_observed(s, |w| {
@@ -304,7 +304,7 @@ pub fn converge(scene: &Scene, opts: &ConvergeOptions) -> Result<ConvergeReport>
             if let Some(b) = bar {
                 b.finish_and_clear();
             }
-            progress.done(s.sim.steps * nb as u64);
+            progress.done(s.sim.steps() * nb as u64);
             r.map(|_| (q, t0.elapsed().as_secs_f64()))
         };
         // The twin samples where its step lands on the stored grid: every
@@ -401,7 +401,7 @@ pub fn converge(scene: &Scene, opts: &ConvergeOptions) -> Result<ConvergeReport>
     for p in &mut points {
         let s = with_params(scene, p.rotator, p.dt, t_end)?;
         (p.wall_s, p.timing_runs) = time_run(&s);
-        progress.done(s.sim.steps * nb as u64);
+        progress.done(s.sim.steps() * nb as u64);
     }
     progress.finish();
 
@@ -466,7 +466,7 @@ fn measure(
     let dt = m as f64 * dt_ref;
     let s = with_params(scene, kind, dt, t_end)?;
     let nb = scene.bodies.len();
-    let work = s.sim.steps * nb as u64;
+    let work = s.sim.steps() * nb as u64;
 
     let b0: Vec<DVec3> = scene.initial.iter().map(|b| b.rot.q * DVec3::X).collect();
     // The world's ledger is measured after every step (the energy guard
@@ -481,8 +481,8 @@ fn measure(
         full_max: 0.0,
         full_last: 0.0,
     };
-    let bar = progress.run_bar(&format!("{kind} dt={dt:.2e}"), s.sim.steps);
-    let t = tick(s.sim.steps);
+    let bar = progress.run_bar(&format!("{kind} dt={dt:.2e}"), s.sim.steps());
+    let t = tick(s.sim.steps());
     let observed = integrate_observed(&s, |w| {
         match mode {
             Mode::Orientation => {
@@ -520,7 +520,7 @@ fn measure(
     let mut p = Point {
         rotator: kind,
         dt,
-        steps: s.sim.steps,
+        steps: s.sim.steps(),
         alpha_rad: f64::NAN,
         geodesic_rad: f64::NAN,
         x_error_pct: f64::NAN,

@@ -50,7 +50,7 @@ pub fn parse_rotators(list: Option<&str>) -> Result<Vec<RotatorKind>> {
 /// `scene` with rotator `kind`, step `dt` and end time `t_end` (checked).
 pub fn with_params(scene: &Scene, kind: RotatorKind, dt: f64, t_end: f64) -> Result<Scene> {
     let mut s = scene.clone();
-    s.sim = SimParams::new(dt, t_end, kind, scene.sim.every, "command line", "--")?;
+    s.sim = SimParams::new(dt, t_end, kind, scene.sim.every(), "command line", "--")?;
     Ok(s)
 }
 

@@ -41,6 +41,7 @@ use crate::integrate::rotate::RotatorKind;
 use crate::integrate::step::World;
 use crate::plot::{render_map, CellMap, MapPanel};
 use crate::scenario::{Scene, SimParams};
+use crate::stop::StopKind;
 use glam::DVec3;
 use rayon::prelude::*;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -135,11 +136,9 @@ impl Verdict {
             Verdict::Stable => "stable".into(),
             Verdict::Energy => format!("finished, energy/L error > {} %", o.energy_tol_pct),
             Verdict::Outcome => format!("finished, final state off rk4 > {} %", o.outcome_tol_pct),
-            Verdict::Guard(d) => format!(
-                "stopped by guard `{}` at step {}",
-                short_kind(&d.kind),
-                d.step
-            ),
+            Verdict::Guard(d) => {
+                format!("stopped by guard `{}` at step {}", d.kind.short(), d.step)
+            }
             Verdict::Panic(_) => "panic".into(),
         }
     }
@@ -150,12 +149,14 @@ impl Verdict {
             Verdict::Stable => (0, ""),
             Verdict::Energy => (1, "E"),
             Verdict::Outcome => (2, "out"),
-            Verdict::Guard(d) => match d.quantity.as_str() {
-                "overlap / D" => (3, "ovl"),
-                "energy error %" => (4, "E>10%"),
-                "|omega| dt / 2" => (5, "tan"),
-                "state" | "energy" => (6, "NaN"),
-                _ => (6, "|q|"),
+            Verdict::Guard(d) => match d.kind {
+                StopKind::Overlap => (3, "ovl"),
+                StopKind::EnergyBlowUp => (4, "E>10%"),
+                StopKind::ScalarSingularity => (5, "tan"),
+                StopKind::NonFiniteState | StopKind::NonFiniteEnergy => (6, "NaN"),
+                StopKind::QuatNormDrift
+                | StopKind::DegenerateOrientation
+                | StopKind::Interrupted { .. } => (6, "|q|"),
             },
             Verdict::Panic(_) => (7, "PANIC"),
         }
@@ -181,8 +182,8 @@ impl Verdict {
             ),
             Verdict::Guard(d) => format!(
                 "guard `{}`: {} = {:.3e} > {:.3e} at t = {:.3e} s",
-                short_kind(&d.kind),
-                d.quantity,
+                d.kind.short(),
+                d.quantity(),
                 d.value,
                 d.limit,
                 d.t
@@ -216,11 +217,6 @@ fn class_words(c: usize, o: &StressOptions) -> String {
         6 => "non-finite / |q| guard".into(),
         _ => "PANIC".into(),
     }
-}
-
-/// The diagnosis kind up to its explanation (`"overlap beyond the Hertz range"`).
-fn short_kind(kind: &str) -> &str {
-    kind.split([';', '(']).next().unwrap_or(kind).trim()
 }
 
 /// One run of the sweep.
@@ -316,12 +312,7 @@ fn outcome_error(scene: &Scene, got: &[(DVec3, DVec3)], reference: &[(DVec3, DVe
 fn sweep_scene(scene: &Scene, kind: RotatorKind, dt: f64) -> Scene {
     let mut s = scene.clone();
     let steps = (scene.sim.t_end() / dt * (1.0 - 1e-12)).ceil().max(1.0) as u64;
-    s.sim = SimParams {
-        dt,
-        steps,
-        rotator: kind,
-        every: None,
-    };
+    s.sim = SimParams::with_steps(dt, steps, kind, None).expect("dt > 0, steps >= 1");
     s
 }
 
@@ -332,35 +323,6 @@ struct Raw {
     momentum: f64,
     end: std::result::Result<Vec<(DVec3, DVec3)>, Verdict>,
     wall_s: f64,
-}
-
-/// Integrate `scene`, calling `observe` after every completed step; a stopped
-/// run also returns its world at the stop (unlike `run::integrate_observed`),
-/// whose ledger is that of the last measured state.
-fn integrate_to_stop<'s>(
-    scene: &'s Scene,
-    mut observe: impl FnMut(&World<'s>),
-) -> (World<'s>, Option<Diagnosis>) {
-    fn go<'s, R: crate::integrate::rotate::Rotator>(
-        scene: &'s Scene,
-        observe: &mut dyn FnMut(&World<'s>),
-    ) -> (World<'s>, Option<Diagnosis>) {
-        let mut world = World::new(scene);
-        while world.step < scene.sim.steps {
-            if let Err(d) = world.step::<R>() {
-                return (world, Some(*d));
-            }
-            observe(&world);
-        }
-        (world, None)
-    }
-    crate::with_rotator!(scene.sim.rotator, R => go::<R>(scene, &mut observe))
-}
-
-/// True when the guard of `d` checked a completed step (all but the scalar
-/// pole, which fires before its step with the state half advanced).
-fn stopped_after_step(d: &Diagnosis) -> bool {
-    d.quantity != "|omega| dt / 2"
 }
 
 /// Run one scene, observing the energy and angular momentum at every step.
@@ -376,14 +338,18 @@ fn run_raw(s: &Scene, bar: Option<indicatif::ProgressBar>) -> Raw {
             *acc = x;
         }
     };
-    let tick = super::tick(s.sim.steps);
+    let tick = super::tick(s.sim.steps());
     let t0 = Instant::now();
     let momentum_err = |w: &World| {
         let l: DVec3 = invariants(s, &w.states, 0.0).iter().map(|x| x.1).sum();
         100.0 * (l - l0).length() / l0.length()
     };
     let r = catch_unwind(AssertUnwindSafe(|| {
-        let (w, stop) = integrate_to_stop(s, |w| {
+        let crate::run::Finished {
+            world: w,
+            stopped: stop,
+            ..
+        } = crate::run::integrate_to_stop(s, |w| {
             done = w.step;
             worse(&mut energy, error_pct(w.ledger.total_full(), w.e0_full));
             if contact_free {
@@ -399,7 +365,7 @@ fn run_raw(s: &Scene, bar: Option<indicatif::ProgressBar>) -> Raw {
             // The step that tripped the guard was not observed: count it.
             at_stop = error_pct(w.ledger.total_full(), w.e0_full);
             worse(&mut energy, at_stop);
-            if contact_free && stopped_after_step(d) {
+            if contact_free && d.kind.after_step() {
                 worse(&mut momentum, momentum_err(&w));
             }
         }
@@ -482,7 +448,7 @@ pub fn stress(cases: Vec<StressCase>, opts: &StressOptions) -> Result<StressRepo
                     scene: sweep_scene(&c.scene, k, f * c.recommended_dt),
                 });
             }
-            let dt = c.scene.sim.dt;
+            let dt = c.scene.sim.dt();
             jobs.push(Job {
                 case: c,
                 rotator: k,
@@ -495,11 +461,11 @@ pub fn stress(cases: Vec<StressCase>, opts: &StressOptions) -> Result<StressRepo
     let refs: Vec<Scene> = cases
         .iter()
         .map(|c| {
-            let dt = (fmin * c.recommended_dt).min(c.scene.sim.dt) / 2.0;
+            let dt = (fmin * c.recommended_dt).min(c.scene.sim.dt()) / 2.0;
             sweep_scene(&c.scene, RotatorKind::Rk4, dt)
         })
         .collect();
-    let work = |s: &Scene| s.sim.steps * s.bodies.len() as u64;
+    let work = |s: &Scene| s.sim.steps() * s.bodies.len() as u64;
     let total =
         jobs.iter().map(|j| work(&j.scene)).sum::<u64>() + refs.iter().map(work).sum::<u64>();
     let progress = Progress::new(opts.progress, total, "stress");
@@ -511,7 +477,7 @@ pub fn stress(cases: Vec<StressCase>, opts: &StressOptions) -> Result<StressRepo
         .map(|(s, c)| {
             let r = run_raw(
                 s,
-                progress.run_bar(&format!("{} rk4 ref", c.name), s.sim.steps),
+                progress.run_bar(&format!("{} rk4 ref", c.name), s.sim.steps()),
             );
             progress.done(work(s));
             r
@@ -527,7 +493,7 @@ pub fn stress(cases: Vec<StressCase>, opts: &StressOptions) -> Result<StressRepo
                     "reference",
                     format!(
                         "the rk4 reference at dt = {:e} s did not finish: {:?}",
-                        refs[ref_end.len()].sim.dt,
+                        refs[ref_end.len()].sim.dt(),
                         v
                     ),
                 ))
@@ -539,7 +505,7 @@ pub fn stress(cases: Vec<StressCase>, opts: &StressOptions) -> Result<StressRepo
         .par_iter()
         .map(|j| {
             let label = format!("{} {} x{}", j.case.name, j.rotator, j.factor);
-            let r = run_raw(&j.scene, progress.run_bar(&label, j.scene.sim.steps));
+            let r = run_raw(&j.scene, progress.run_bar(&label, j.scene.sim.steps()));
             progress.done(work(&j.scene));
             r
         })
@@ -578,8 +544,8 @@ pub fn stress(cases: Vec<StressCase>, opts: &StressOptions) -> Result<StressRepo
                 rotator: j.rotator,
                 factor: j.factor,
                 scene_dt: j.scene_dt,
-                dt: j.scene.sim.dt,
-                steps: j.scene.sim.steps,
+                dt: j.scene.sim.dt(),
+                steps: j.scene.sim.steps(),
                 steps_done: raw.steps_done,
                 energy_err_pct: raw.energy,
                 energy_err_at_stop_pct: raw.energy_at_stop,
@@ -638,7 +604,7 @@ fn summarise(cases: &[StressCase], runs: &[StressRun], opts: &StressOptions) -> 
                 at_recommended: at_rec.map_or("not run".into(), |r| r.verdict.short(opts)),
                 detected_by: detected_by(&sweep, scene_run, opts),
                 err_at_scene_dt_pct: scene_run.map_or(f64::NAN, err),
-                scene_dt: c.scene.sim.dt,
+                scene_dt: c.scene.sim.dt(),
                 detections: sweep
                     .iter()
                     .chain(scene_run.iter())
@@ -770,8 +736,8 @@ fn write_outputs(r: &StressReport, opts: &StressOptions) -> Result<()> {
         .map(|x| {
             let (kind, q, v, l) = match &x.verdict {
                 Verdict::Guard(d) => (
-                    short_kind(&d.kind).to_string(),
-                    d.quantity.clone(),
+                    d.kind.short().to_string(),
+                    d.quantity().to_string(),
                     cell(d.value),
                     cell(d.limit),
                 ),

@@ -14,6 +14,8 @@ use glam::DVec3;
 pub struct Direct;
 
 impl Rotator for Direct {
+    type Aux = ();
+
     const INFO: RotatorInfo = RotatorInfo {
         name: "direct",
         title:
@@ -23,12 +25,14 @@ impl Rotator for Direct {
         torque_evals: 1,
         torque_contract: "torque at (t_n, q_n)",
         contact_contract: "the contact torque of the start-of-step configuration",
-        kick_drift_kick: false,
+        closing_kick: false,
+        diagnostic: false,
     };
 
     #[inline]
     fn advance<T: Fn(f64) -> DVec3>(
         rot: &mut RotState,
+        _aux: &mut (),
         inertia: &Inertia,
         torque: T,
         t_n: f64,

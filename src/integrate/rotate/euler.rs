@@ -14,6 +14,8 @@ use glam::DVec3;
 pub struct Euler;
 
 impl Rotator for Euler {
+    type Aux = ();
+
     const INFO: RotatorInfo = RotatorInfo {
         name: "euler",
         title: "Euler: Taylor step of the quaternion, renormalised; explicit Euler for the angular velocity",
@@ -22,12 +24,14 @@ impl Rotator for Euler {
         torque_evals: 1,
         torque_contract: "torque at (t_n, q_n)",
         contact_contract: "the contact torque of the start-of-step configuration",
-        kick_drift_kick: false,
+        closing_kick: false,
+        diagnostic: false,
     };
 
     #[inline]
     fn advance<T: Fn(f64) -> DVec3>(
         rot: &mut RotState,
+        _aux: &mut (),
         inertia: &Inertia,
         torque: T,
         t_n: f64,

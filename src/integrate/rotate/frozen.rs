@@ -11,6 +11,8 @@ use glam::DVec3;
 pub struct Frozen;
 
 impl Rotator for Frozen {
+    type Aux = ();
+
     const INFO: RotatorInfo = RotatorInfo {
         name: "frozen",
         title: "Diagnostic: no rotation at all, to separate the contact model's and Verlet's energy error from the rotators'",
@@ -19,12 +21,14 @@ impl Rotator for Frozen {
         torque_evals: 0,
         torque_contract: "never asks for torque",
         contact_contract: "ignored",
-        kick_drift_kick: false,
+        closing_kick: false,
+        diagnostic: true,
     };
 
     #[inline]
     fn advance<T: Fn(f64) -> DVec3>(
         _rot: &mut RotState,
+        _aux: &mut (),
         _inertia: &Inertia,
         _torque: T,
         _t_n: f64,

@@ -24,6 +24,8 @@ use glam::{DQuat, DVec3};
 pub struct Leapfrog;
 
 impl Rotator for Leapfrog {
+    type Aux = ();
+
     const INFO: RotatorInfo = RotatorInfo {
         name: "leapfrog",
         title: "Leap-frog in Cayley form, kick-drift-kick on the world angular momentum",
@@ -33,12 +35,14 @@ impl Rotator for Leapfrog {
         torque_contract:
             "half-kick with torque at (t_n, q_n); closing half-kick with torque at (t_n+1, q_n+1)",
         contact_contract: "first half-kick with the start-of-step contact torque, closing half-kick with the torque of the new configuration",
-        kick_drift_kick: true,
+        closing_kick: true,
+        diagnostic: false,
     };
 
     #[inline]
     fn advance<T: Fn(f64) -> DVec3>(
         rot: &mut RotState,
+        _aux: &mut (),
         inertia: &Inertia,
         torque: T,
         t_n: f64,
@@ -63,6 +67,7 @@ impl Rotator for Leapfrog {
     #[inline]
     fn finish<T: Fn(f64) -> DVec3>(
         rot: &mut RotState,
+        _aux: &mut (),
         inertia: &Inertia,
         torque: T,
         t_next: f64,

@@ -1,12 +1,12 @@
 //! Quaternion rotators: the schemes compared by fibresim.
 //!
-//! A rotator advances one body's `(q, ω_b)`. Two hooks cover both families
-//! (SPEC §4, ARCHITECTURE "The rotator contract"):
-//! - [`Rotator::advance`] runs before forces are computed: one-stage schemes do
-//!   their whole step here; kick–drift–kick schemes do the first half-kick and
-//!   the drift.
-//! - [`Rotator::finish`] runs after forces at the new positions: the closing
-//!   half-kick (a no-op for one-stage schemes).
+//! A rotator is the rotation part of the step's stages (see
+//! [`crate::integrate::scheme`]): it advances one body's `(q, ω_b)`.
+//! - [`Rotator::advance`] runs in an opening stage, before forces: one-stage
+//!   schemes do their whole step here; kick–drift–kick schemes their first
+//!   half-kick and drift.
+//! - [`Rotator::finish`] runs in the closing stage, after forces at the new
+//!   positions: a closing half-kick, or nothing (the default).
 //!
 //! Torque is asked for through a closure `torque(t) -> τ_world`: a prescribed
 //! torque evaluates its function of time exactly at `t`; a contact torque
@@ -15,27 +15,70 @@
 //! that world torque into (`q_n`, a predicted `q'`, a stage orientation).
 //! Each rotator states its contract as data in [`RotatorInfo`].
 //!
-//! Dispatch on [`RotatorKind`] happens once per run (see `crate::run`), so each
-//! scheme compiles to its own tight loop.
-
-mod direct;
-mod euler;
-mod frozen;
-mod leapfrog;
-mod pcdm;
-mod rk4;
-mod scalar;
-
-pub use direct::Direct;
-pub use euler::Euler;
-pub use frozen::Frozen;
-pub use leapfrog::Leapfrog;
-pub use pcdm::{Pcdm, PcdmStart};
-pub use rk4::Rk4;
-pub use scalar::Scalar;
+//! **Adding a rotator**: one file here, implementing [`Rotator`], and one
+//! line in the [`rotator_list!`] call below. The list generates the module,
+//! the [`RotatorKind`] variant, `--rotator`'s values and help, `fibresim
+//! rotators`, the README table (`fibresim rotators --markdown`) and the
+//! dispatch ([`RotatorKind::visit`]); the order tests iterate it.
+//! Dispatch happens once per run, so every scheme compiles to its own loop.
 
 use crate::body::{Inertia, RotState};
+use crate::integrate::scheme::{Stage, VERLET};
 use glam::DVec3;
+
+/// Generates, from one list of `module::Type` lines: the modules, the
+/// re-exports, [`RotatorKind`] with its variant per type, the lists and the
+/// visitor dispatch. A line may carry attributes (`#[cfg(test)]`).
+macro_rules! rotator_list {
+    ($( $(#[$attr:meta])* $module:ident :: $Type:ident ),+ $(,)?) => {
+        $( $(#[$attr])* mod $module; )+
+        $( $(#[$attr])* pub use $module::$Type; )+
+
+        /// The selectable rotators (`--rotator`, scenario key
+        /// `simulation.rotator`). Each one's description lives in its
+        /// [`RotatorInfo`].
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        pub enum RotatorKind {
+            $( $(#[$attr])* $Type, )+
+        }
+
+        impl RotatorKind {
+            /// Everything `--rotator` accepts, in list order: the schemes and
+            /// the diagnostics.
+            pub const SELECTABLE: &'static [RotatorKind] = &[
+                $( $(#[$attr])* RotatorKind::$Type, )+
+            ];
+
+            /// The scheme's facts.
+            pub const fn info(self) -> RotatorInfo {
+                match self {
+                    $( $(#[$attr])* RotatorKind::$Type => <$Type as Rotator>::INFO, )+
+                }
+            }
+
+            /// Call `v` with the type of this rotator: the one place a run
+            /// dispatches on the enum.
+            pub fn visit<V: RotatorVisitor>(self, v: V) -> V::Output {
+                match self {
+                    $( $(#[$attr])* RotatorKind::$Type => v.visit::<$Type>(), )+
+                }
+            }
+        }
+    };
+}
+
+rotator_list! {
+    euler::Euler,
+    leapfrog::Leapfrog,
+    scalar::Scalar,
+    direct::Direct,
+    pcdm::Pcdm,
+    pcdm_start::PcdmStart,
+    rk4::Rk4,
+    frozen::Frozen,
+    #[cfg(test)]
+    midpoint_demo::MidpointDemo,
+}
 
 /// Why a rotator could not take a step.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -55,8 +98,8 @@ pub struct RotatorInfo {
     /// The paper's equations this scheme implements.
     pub equations: &'static str,
     /// Global order of accuracy in δt for the orientation with a general
-    /// (asymmetric inertia, time-dependent torque) load, as measured in
-    /// `tests/rotator_order.rs`.
+    /// (asymmetric inertia, time-dependent torque) load, as measured by
+    /// [`crate::study::order`] (0 for a diagnostic).
     pub order: u32,
     /// Torque evaluations per step.
     pub torque_evals: u32,
@@ -64,58 +107,164 @@ pub struct RotatorInfo {
     /// taken into the body frame.
     pub torque_contract: &'static str,
     /// What a contact torque means to the scheme: contact torques are known
-    /// only where forces were computed (SPEC §4).
+    /// only where forces were computed (docs/physics.md §4).
     pub contact_contract: &'static str,
-    /// Whether the scheme has a closing half-kick after forces.
-    pub kick_drift_kick: bool,
+    /// Whether `finish` applies a closing half-kick with the torque of the
+    /// new configuration (so a contact torque enters at both ends of the step).
+    pub closing_kick: bool,
+    /// A diagnostic (not an integration scheme): left out of
+    /// [`RotatorKind::ALL`], the studies' `all` and the order tests.
+    pub diagnostic: bool,
 }
 
-/// One quaternion integration scheme. Stateless: all state is in [`RotState`].
+/// Per-body state a scheme keeps from one step to the next (a half-step
+/// momentum, say), stored by the world as `LEN` doubles per body so that
+/// checkpoints (and, later, rank migration) carry it as plain numbers, like
+/// LAMMPS's per-atom fix arrays. `()` for the schemes that keep none.
+pub trait AuxState: Copy + Default + Send + Sync + 'static {
+    /// Doubles per body.
+    const LEN: usize;
+    fn read(from: &[f64]) -> Self;
+    fn write(&self, to: &mut [f64]);
+}
+
+impl AuxState for () {
+    const LEN: usize = 0;
+    #[inline]
+    fn read(_: &[f64]) -> Self {}
+    #[inline]
+    fn write(&self, _: &mut [f64]) {}
+}
+
+impl AuxState for DVec3 {
+    const LEN: usize = 3;
+    #[inline]
+    fn read(from: &[f64]) -> Self {
+        DVec3::new(from[0], from[1], from[2])
+    }
+    #[inline]
+    fn write(&self, to: &mut [f64]) {
+        to[..3].copy_from_slice(&self.to_array());
+    }
+}
+
+/// One quaternion integration scheme. All state is in [`RotState`] and the
+/// scheme's [`Rotator::Aux`].
 pub trait Rotator {
     const INFO: RotatorInfo;
 
-    /// Advance `(q, ω_b)` from `t_n` towards `t_n + δt`, before forces are computed.
+    /// The stages of one whole step ([`VERLET`]: open, forces, close). A
+    /// composition lists several sub-steps, each with its own forces.
+    const STAGES: &'static [Stage] = VERLET;
+
+    /// Per-body state kept between steps.
+    type Aux: AuxState;
+
+    /// The auxiliary state of a body at the start of a run.
+    #[inline]
+    fn start(_rot: &RotState, _inertia: &Inertia) -> Self::Aux {
+        Self::Aux::default()
+    }
+
+    /// Advance `(q, ω_b)` over the sub-step `[t, t + h]`, before its forces
+    /// are computed.
     fn advance<T: Fn(f64) -> DVec3>(
         rot: &mut RotState,
+        aux: &mut Self::Aux,
         inertia: &Inertia,
         torque: T,
-        t_n: f64,
-        dt: f64,
+        t: f64,
+        h: f64,
     ) -> Result<(), RotatorFault>;
 
-    /// Close the step at `t_next = t_n + δt`, after forces at the new positions.
+    /// Close the sub-step ending at `t_end`, after forces at the new
+    /// positions. Always called; a no-op for one-stage schemes.
     #[inline]
     fn finish<T: Fn(f64) -> DVec3>(
         _rot: &mut RotState,
+        _aux: &mut Self::Aux,
         _inertia: &Inertia,
         _torque: T,
-        _t_next: f64,
-        _dt: f64,
+        _t_end: f64,
+        _h: f64,
     ) {
     }
 }
 
-/// The selectable rotators (`--rotator`, scenario key `simulation.rotator`).
-/// Each one's description lives in its [`RotatorInfo`].
-#[derive(
-    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum RotatorKind {
-    Euler,
-    Leapfrog,
-    Scalar,
-    Direct,
-    Pcdm,
-    PcdmStart,
-    Rk4,
-    Frozen,
+/// A computation generic over the rotator, for [`RotatorKind::visit`].
+pub trait RotatorVisitor {
+    type Output;
+    fn visit<R: Rotator>(self) -> Self::Output;
+}
+
+/// Number of schemes (the list less its diagnostics), for [`RotatorKind::ALL`].
+const SCHEME_COUNT: usize = {
+    let (mut n, mut i) = (0, 0);
+    while i < RotatorKind::SELECTABLE.len() {
+        if !RotatorKind::SELECTABLE[i].info().diagnostic {
+            n += 1;
+        }
+        i += 1;
+    }
+    n
+};
+
+impl RotatorKind {
+    /// Every integration scheme, in list order (diagnostics left out).
+    pub const ALL: [RotatorKind; SCHEME_COUNT] = {
+        let mut out = [RotatorKind::SELECTABLE[0]; SCHEME_COUNT];
+        let (mut i, mut k) = (0, 0);
+        while i < RotatorKind::SELECTABLE.len() {
+            if !RotatorKind::SELECTABLE[i].info().diagnostic {
+                out[k] = RotatorKind::SELECTABLE[i];
+                k += 1;
+            }
+            i += 1;
+        }
+        out
+    };
+
+    /// The paper's four rotators, in the order of its Figs. 2–4.
+    pub const PAPER: [RotatorKind; 4] = [
+        RotatorKind::Pcdm,
+        RotatorKind::Scalar,
+        RotatorKind::Euler,
+        RotatorKind::Leapfrog,
+    ];
+
+    pub fn name(self) -> &'static str {
+        self.info().name
+    }
+
+    pub fn from_name(s: &str) -> Option<Self> {
+        Self::SELECTABLE.iter().copied().find(|k| k.name() == s)
+    }
+}
+
+impl std::fmt::Display for RotatorKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl serde::Serialize for RotatorKind {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for RotatorKind {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        RotatorKind::from_name(&s)
+            .ok_or_else(|| serde::de::Error::custom(format!("unknown rotator `{s}`")))
+    }
 }
 
 /// `--rotator` values, with help generated from [`RotatorInfo`].
 impl clap::ValueEnum for RotatorKind {
     fn value_variants<'a>() -> &'a [Self] {
-        &Self::SELECTABLE
+        Self::SELECTABLE
     }
 
     fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
@@ -131,105 +280,53 @@ impl clap::ValueEnum for RotatorKind {
     }
 }
 
-impl RotatorKind {
-    /// Every integration scheme (the `frozen` diagnostic is not one).
-    pub const ALL: [RotatorKind; 7] = [
-        RotatorKind::Euler,
-        RotatorKind::Leapfrog,
-        RotatorKind::Scalar,
-        RotatorKind::Direct,
-        RotatorKind::Pcdm,
-        RotatorKind::PcdmStart,
-        RotatorKind::Rk4,
-    ];
-
-    /// Everything `--rotator` accepts: the schemes and the diagnostic.
-    pub const SELECTABLE: [RotatorKind; 8] = [
-        RotatorKind::Euler,
-        RotatorKind::Leapfrog,
-        RotatorKind::Scalar,
-        RotatorKind::Direct,
-        RotatorKind::Pcdm,
-        RotatorKind::PcdmStart,
-        RotatorKind::Rk4,
-        RotatorKind::Frozen,
-    ];
-
-    /// The paper's four rotators (Figs. 2–4).
-    pub const PAPER: [RotatorKind; 4] = [
-        RotatorKind::Pcdm,
-        RotatorKind::Scalar,
-        RotatorKind::Euler,
-        RotatorKind::Leapfrog,
-    ];
-
-    pub fn info(self) -> RotatorInfo {
-        match self {
-            RotatorKind::Euler => Euler::INFO,
-            RotatorKind::Leapfrog => Leapfrog::INFO,
-            RotatorKind::Scalar => Scalar::INFO,
-            RotatorKind::Direct => Direct::INFO,
-            RotatorKind::Pcdm => Pcdm::INFO,
-            RotatorKind::PcdmStart => PcdmStart::INFO,
-            RotatorKind::Rk4 => Rk4::INFO,
-            RotatorKind::Frozen => Frozen::INFO,
-        }
+/// `fibresim rotators`: one block per rotator, from its [`RotatorInfo`].
+pub fn rotator_table() -> String {
+    use std::fmt::Write;
+    let kinds = RotatorKind::SELECTABLE;
+    let w = kinds
+        .iter()
+        .map(|k| k.info().equations.len())
+        .max()
+        .unwrap_or(0);
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{:<11} {:<w$} {:>5} {:>5}  scheme",
+        "name", "equations", "order", "evals"
+    );
+    for k in kinds {
+        let i = k.info();
+        let _ = writeln!(
+            s,
+            "{:<11} {:<w$} {:>5} {:>5}  {}",
+            i.name, i.equations, i.order, i.torque_evals, i.title
+        );
+        let _ = writeln!(s, "{:11} prescribed torque: {}", "", i.torque_contract);
+        let _ = writeln!(s, "{:11} contact torque:    {}", "", i.contact_contract);
     }
-
-    pub fn name(self) -> &'static str {
-        self.info().name
-    }
-
-    pub fn from_name(s: &str) -> Option<Self> {
-        Self::SELECTABLE.into_iter().find(|k| k.name() == s)
-    }
+    let _ = writeln!(s, "\norder: measured global order for a general load (study::order, tests/rotator_order.rs); evals: torque evaluations per step");
+    s
 }
 
-impl std::fmt::Display for RotatorKind {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
+/// The README's rotator table (`fibresim rotators --markdown`), from each
+/// rotator's [`RotatorInfo`]; a test keeps the README equal to it.
+pub fn rotator_markdown() -> String {
+    use std::fmt::Write;
+    let mut s = String::from(
+        "| name | equations | order (measured) | torque evals / step | prescribed torque | contact torque |\n|---|---|---|---|---|---|\n",
+    );
+    for k in RotatorKind::SELECTABLE {
+        let i = k.info();
+        let order = match i.order {
+            0 => "—".to_string(),
+            n => n.to_string(),
+        };
+        let _ = writeln!(
+            s,
+            "| `{}` | {} | {} | {} | {} | {} |",
+            i.name, i.equations, order, i.torque_evals, i.torque_contract, i.contact_contract
+        );
     }
-}
-
-/// Call `$body` with the type `$R` bound to the rotator chosen by `$kind`.
-/// This is the one place a run dispatches on the enum.
-#[macro_export]
-macro_rules! with_rotator {
-    ($kind:expr, $R:ident => $body:expr) => {{
-        use $crate::integrate::rotate::*;
-        match $kind {
-            RotatorKind::Euler => {
-                type $R = Euler;
-                $body
-            }
-            RotatorKind::Leapfrog => {
-                type $R = Leapfrog;
-                $body
-            }
-            RotatorKind::Scalar => {
-                type $R = Scalar;
-                $body
-            }
-            RotatorKind::Direct => {
-                type $R = Direct;
-                $body
-            }
-            RotatorKind::Pcdm => {
-                type $R = Pcdm;
-                $body
-            }
-            RotatorKind::PcdmStart => {
-                type $R = PcdmStart;
-                $body
-            }
-            RotatorKind::Rk4 => {
-                type $R = Rk4;
-                $body
-            }
-            RotatorKind::Frozen => {
-                type $R = Frozen;
-                $body
-            }
-        }
-    }};
+    s
 }

@@ -11,9 +11,8 @@
 //! 5. `ω_b,n+1 = ω_b,n + δt α_{n+½}` (Eq. 62).
 //!
 //! The paper does not say at which *time* the torque of step 3 is taken.
-//! [`Pcdm`] takes it at `t_n + δt/2` (second order); [`PcdmStart`] takes it at
-//! `t_n` (first order for time-dependent torques; this timing reproduces the
-//! paper's Table 2 to two digits — see the README). A contact torque is the
+//! [`Pcdm`] takes it at `t_n + δt/2` (second order); [`super::PcdmStart`] takes it at
+//! `t_n` (`pcdm_start.rs`; first order for time-dependent torques). A contact torque is the
 //! latest computed world torque in both, rotated into the predicted frame `q'`.
 //! No renormalisation: only unit quaternions are multiplied.
 
@@ -24,12 +23,12 @@ use glam::DVec3;
 
 /// PCDM with the mid-step torque at `t_n + δt/2`.
 pub type Pcdm = PcdmScheme<true>;
-/// PCDM with the mid-step torque at `t_n`.
-pub type PcdmStart = PcdmScheme<false>;
 
 pub struct PcdmScheme<const MID_STEP_TORQUE: bool>;
 
 impl<const MID: bool> Rotator for PcdmScheme<MID> {
+    type Aux = ();
+
     const INFO: RotatorInfo = if MID {
         RotatorInfo {
             name: "pcdm",
@@ -39,7 +38,8 @@ impl<const MID: bool> Rotator for PcdmScheme<MID> {
             torque_evals: 2,
             torque_contract: "torque at (t_n, q_n) and at (t_n + dt/2, q'_n+1/2)",
             contact_contract: "the start-of-step contact torque, taken into the frame of q_n and of the predicted q'_n+1/2",
-            kick_drift_kick: false,
+            closing_kick: false,
+        diagnostic: false,
         }
     } else {
         RotatorInfo {
@@ -50,13 +50,15 @@ impl<const MID: bool> Rotator for PcdmScheme<MID> {
             torque_evals: 2,
             torque_contract: "torque at (t_n, q_n) and at (t_n, q'_n+1/2)",
             contact_contract: "the start-of-step contact torque, taken into the frame of q_n and of the predicted q'_n+1/2",
-            kick_drift_kick: false,
+            closing_kick: false,
+        diagnostic: false,
         }
     };
 
     #[inline]
     fn advance<T: Fn(f64) -> DVec3>(
         rot: &mut RotState,
+        _aux: &mut (),
         inertia: &Inertia,
         torque: T,
         t_n: f64,

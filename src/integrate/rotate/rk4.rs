@@ -30,6 +30,8 @@ fn rhs<T: Fn(f64) -> DVec3>(
 }
 
 impl Rotator for Rk4 {
+    type Aux = ();
+
     const INFO: RotatorInfo = RotatorInfo {
         name: "rk4",
         title: "Classical 4th-order Runge-Kutta on (q, omega_b), projected to unit norm: the reference for convergence studies",
@@ -38,12 +40,14 @@ impl Rotator for Rk4 {
         torque_evals: 4,
         torque_contract: "torque at t_n, t_n + dt/2 (twice), t_n + dt, at the stage orientations",
         contact_contract: "the start-of-step contact torque at every stage (forces are computed once per step), so first order with contacts",
-        kick_drift_kick: false,
+        closing_kick: false,
+        diagnostic: false,
     };
 
     #[inline]
     fn advance<T: Fn(f64) -> DVec3>(
         rot: &mut RotState,
+        _aux: &mut (),
         inertia: &Inertia,
         torque: T,
         t_n: f64,

@@ -19,6 +19,8 @@ pub struct Scalar;
 pub const SCALAR_HALF_ANGLE_LIMIT: f64 = std::f64::consts::FRAC_PI_2;
 
 impl Rotator for Scalar {
+    type Aux = ();
+
     const INFO: RotatorInfo = RotatorInfo {
         name: "scalar",
         title: "Kleppmann's scalar factor; explicit Euler for the angular velocity",
@@ -27,12 +29,14 @@ impl Rotator for Scalar {
         torque_evals: 1,
         torque_contract: "torque at (t_n, q_n); stops at ||omega|| dt / 2 >= pi/2",
         contact_contract: "the contact torque of the start-of-step configuration",
-        kick_drift_kick: false,
+        closing_kick: false,
+        diagnostic: false,
     };
 
     #[inline]
     fn advance<T: Fn(f64) -> DVec3>(
         rot: &mut RotState,
+        _aux: &mut (),
         inertia: &Inertia,
         torque: T,
         t_n: f64,

@@ -1,0 +1,128 @@
+//! The evolving state of a scene, kept apart from the step logic
+//! (rapier's bodies and pipeline): per-body states, the latest forces and
+//! torques, the contact stage's caches, the energy ledger and the step count.
+
+use crate::body::BodyState;
+use crate::contact::stage::{ContactStage, ContactStats};
+use crate::energy::Ledger;
+use crate::scenario::Scene;
+use glam::DVec3;
+
+/// The evolving state of a scene.
+#[derive(Debug, Clone)]
+pub struct World<'s> {
+    pub scene: &'s Scene,
+    /// Kinematic state per body, by storage index (a compact 104-byte
+    /// record; per-body constants are in `scene.bodies`).
+    pub states: Vec<BodyState>,
+    /// Per-body auxiliary state of the rotator, `Aux::LEN` doubles per body
+    /// (see [`crate::integrate::rotate::AuxState`]); empty for schemes that
+    /// keep none.
+    pub aux: Vec<f64>,
+    /// Latest contact force and torque per body (world frame), at `states`.
+    pub force: Vec<DVec3>,
+    pub torque: Vec<DVec3>,
+    /// Number of completed steps; the time is `step · δt`.
+    pub step: u64,
+    /// The contact force stage; `None` when nothing can touch
+    /// (docs/physics.md §7).
+    pub contacts: Option<ContactStage>,
+    /// Energy ledger at `states` (updated every step: the energy guard reads
+    /// it). Its `elastic` term is the contact stage's.
+    pub ledger: Ledger,
+    /// Full-budget energy at step 0.
+    pub e0_full: f64,
+    /// Whether the energy guard applies: prescribed torques do work, so
+    /// energy is a conserved budget only without them.
+    pub(crate) energy_guarded: bool,
+    /// Stage timers (rapier-style), off unless a benchmark turns them on: two
+    /// clock reads per stage per step are not free.
+    pub timers: Option<StageTimes>,
+}
+
+/// Wall time spent in each stage of the step, summed over steps.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StageTimes {
+    /// Opening and closing stages: Verlet and the rotators.
+    pub integrate: std::time::Duration,
+    /// Force stages: broad phase, kernels, Hertz.
+    pub forces: std::time::Duration,
+    /// Guards.
+    pub guards: std::time::Duration,
+}
+
+impl<'s> World<'s> {
+    pub fn new(scene: &'s Scene) -> Self {
+        let n = scene.bodies.len();
+        let mut w = World {
+            scene,
+            states: scene.initial.clone(),
+            aux: vec![],
+            force: vec![DVec3::ZERO; n],
+            torque: vec![DVec3::ZERO; n],
+            step: 0,
+            contacts: scene
+                .needs_contacts()
+                .then(|| ContactStage::new(&scene.bodies, &scene.materials, scene.walls.as_ref())),
+            ledger: Ledger::default(),
+            e0_full: 0.0,
+            energy_guarded: !scene.has_prescribed_torque(),
+            timers: None,
+        };
+        w.compute_forces();
+        w.ledger = w.measure();
+        w.e0_full = w.ledger.total_full();
+        w
+    }
+
+    /// Put the world at `step` with `states` and the rotator's `aux`
+    /// (resuming from a checkpoint): the forces and the ledger are
+    /// recomputed from the states, exactly as the step that produced them did.
+    pub fn restore(&mut self, states: Vec<BodyState>, aux: Vec<f64>, step: u64) {
+        self.states = states;
+        self.aux = aux;
+        self.step = step;
+        self.compute_forces();
+        self.ledger = self.measure();
+    }
+
+    /// The ledger of the current states.
+    pub(crate) fn measure(&self) -> Ledger {
+        Ledger::measure(
+            &self.scene.bodies,
+            &self.states,
+            self.scene.gravity,
+            self.elastic(),
+        )
+    }
+
+    /// Elastic energy of the live contacts at `states`, J.
+    #[inline]
+    pub fn elastic(&self) -> f64 {
+        self.contacts.as_ref().map_or(0.0, |c| c.stats.elastic)
+    }
+
+    pub fn time(&self) -> f64 {
+        self.step as f64 * self.scene.sim.dt()
+    }
+
+    /// The force stage: forces and torques at the current configuration.
+    /// Without contacts there is nothing to compute (gravity enters as an
+    /// acceleration).
+    pub(crate) fn compute_forces(&mut self) {
+        if let Some(c) = &mut self.contacts {
+            c.compute(
+                &self.scene.bodies,
+                &self.scene.materials,
+                &self.states,
+                &mut self.force,
+                &mut self.torque,
+            );
+        }
+    }
+
+    /// What the contact stage saw at the current configuration.
+    pub fn contact_stats(&self) -> Option<ContactStats> {
+        self.contacts.as_ref().map(|c| c.stats)
+    }
+}

@@ -1,0 +1,159 @@
+//! `energy.csv`: the energy ledger per output row, with Eq. 65 errors (column
+//! names are a public contract).
+
+use super::file::{csv_err, CsvFile};
+use super::Row;
+use crate::error::Result;
+use crate::output::Checkpoint;
+use crate::run::observer::{Observer, RunEnd, View};
+
+pub const ENERGY_COLUMNS: [&str; 11] = [
+    "step",
+    "t",
+    "e_grav",
+    "e_trans",
+    "e_rot",
+    "e_elastic",
+    "e_total",
+    "energy_error_pct",
+    "energy_error_full_pct",
+    "energy_error_window_max_pct",
+    "energy_error_full_window_max_pct",
+];
+
+/// Energy ledger per output row. `e_total` is Eq. 64 (no elastic term); the
+/// `full` error includes the elastic energy. The `*_window_max_pct` columns
+/// are the largest error over every step since the previous row, so no spike
+/// between rows is hidden; in contact scenes `contacts,max_overlap_ratio`
+/// are the touching pairs at the row's step and the largest δ/D since the
+/// previous row.
+pub struct EnergyCsv {
+    file: CsvFile,
+    every: u64,
+    with_contacts: bool,
+    window: Window,
+}
+
+/// Largest Eq. 65 error, full-budget error and δ/D since the previous row.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct Window {
+    error: f64,
+    error_full: f64,
+    overlap: f64,
+}
+
+/// The observer's name in checkpoints.
+const NAME: &str = "energy.csv";
+
+impl EnergyCsv {
+    /// `energy.csv` in `dir`, one row per `every` steps; opened when the run
+    /// starts ([`Observer::start`]) or resumes.
+    pub fn new(dir: &std::path::Path, every: u64, with_contacts: bool) -> Self {
+        EnergyCsv {
+            file: CsvFile::at(dir.join(NAME)),
+            every,
+            with_contacts,
+            window: Window::default(),
+        }
+    }
+}
+
+impl Observer for EnergyCsv {
+    fn every(&self) -> Option<u64> {
+        Some(self.every)
+    }
+
+    fn start(&mut self, _v: &View) -> Result<()> {
+        let mut cols = ENERGY_COLUMNS.to_vec();
+        if self.with_contacts {
+            cols.extend(["contacts", "max_overlap_ratio"]);
+        }
+        self.file.create(&cols)
+    }
+
+    fn every_step(&self) -> bool {
+        true
+    }
+
+    #[inline]
+    fn after_step(&mut self, v: &View) {
+        let (s, w) = (v.stats, &mut self.window);
+        w.overlap = w.overlap.max(s.last_overlap_ratio);
+        // f64::max ignores NaN, so the maxima stay NaN-free for E_0 = 0 scenes.
+        w.error = w.error.max(s.last_error);
+        w.error_full = w.error_full.max(s.last_error_full);
+    }
+
+    /// The row of the step last accounted for; starts a new window.
+    fn row(&mut self, v: &View) -> Result<()> {
+        let (s, l, w) = (v.stats, &v.world.ledger, self.window);
+        let window = if s.last_error.is_nan() {
+            f64::NAN
+        } else {
+            w.error
+        };
+        let window_full = if s.last_error_full.is_nan() {
+            f64::NAN
+        } else {
+            w.error_full
+        };
+        let touching = v.world.contact_stats().unwrap_or_default().touching as u64;
+        let with_contacts = self.with_contacts;
+        let path = self.file.path.clone();
+        Row::new(self.file.writer()?)
+            .u(v.world.step)
+            .and_then(|r| r.f(v.world.time()))
+            .and_then(|r| r.f(l.gravity))
+            .and_then(|r| r.f(l.translation))
+            .and_then(|r| r.f(l.rotation))
+            .and_then(|r| r.f(l.elastic))
+            .and_then(|r| r.f(l.total()))
+            .and_then(|r| r.f(s.last_error))
+            .and_then(|r| r.f(s.last_error_full))
+            .and_then(|r| r.f(window))
+            .and_then(|r| r.f(window_full))
+            .and_then(|r| {
+                if with_contacts {
+                    r.u(touching)?.f(w.overlap)?;
+                }
+                r.end()
+            })
+            .map_err(|e| csv_err(&path, e))?;
+        self.window = Window::default();
+        Ok(())
+    }
+
+    fn checkpoint(&mut self, c: &mut Checkpoint) -> Result<()> {
+        c.outputs.insert(self.file.name(), self.file.flushed_len()?);
+        let w = self.window;
+        c.observers.insert(
+            NAME.into(),
+            [w.error, w.error_full, w.overlap]
+                .map(super::checkpoint::bits)
+                .to_vec(),
+        );
+        Ok(())
+    }
+
+    fn resume(&mut self, c: &Checkpoint) -> Result<()> {
+        self.file.reopen(c.output_len(NAME)?)?;
+        let s = c.observer_state(NAME)?;
+        if s.len() != 3 {
+            return Err(crate::error::Error::bad(
+                "checkpoint",
+                "observers",
+                "energy.csv needs 3 numbers",
+            ));
+        }
+        self.window = Window {
+            error: s[0],
+            error_full: s[1],
+            overlap: s[2],
+        };
+        Ok(())
+    }
+
+    fn finish(&mut self, _v: &View, _end: &RunEnd) -> Result<()> {
+        self.file.flush()
+    }
+}

@@ -1,0 +1,220 @@
+//! The one driver loop: step the world to the scene's end, account the run's
+//! statistics, and call the observers on their cadences (LAMMPS's run loop
+//! with its output and dump hooks). `fibresim run`, the studies and the
+//! tests all run through it.
+
+use super::observer::{Observer, RunEnd, View};
+use super::stats::RunStats;
+use crate::error::{Error, Result};
+use crate::integrate::rotate::{AuxState, Rotator, RotatorVisitor};
+use crate::integrate::step::World;
+use crate::output::checkpoint::{self, Checkpoint};
+use crate::scenario::Scene;
+use crate::stop::{Diagnosis, StopKind};
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+/// When the driver raises events besides rows.
+#[derive(Debug, Clone, Default)]
+pub struct Control {
+    /// Take a checkpoint every this many steps.
+    pub checkpoint_every: Option<u64>,
+    /// Stop at the next step when this flag is set (SIGINT), after a
+    /// checkpoint (to be written at the given path by the checkpoint observer).
+    pub interrupt: Option<(&'static AtomicBool, PathBuf)>,
+}
+
+/// The end of a drive: the final world, the run's statistics and the stop.
+pub struct Finished<'s> {
+    pub world: World<'s>,
+    pub stats: RunStats,
+    pub stopped: Option<Diagnosis>,
+    pub wall_s: f64,
+    pub first_step: u64,
+}
+
+/// Run `scene` with its rotator from the start (or from `resume`) to its
+/// end, or to the first stop, calling `observers` in list order. An error is
+/// an observer's (an output that cannot be written); every row written
+/// before it is kept.
+pub fn drive<'s>(
+    scene: &'s Scene,
+    observers: &mut [&mut dyn Observer],
+    control: &Control,
+    resume: Option<&Checkpoint>,
+) -> Result<Finished<'s>> {
+    struct Drive<'a, 's, 'o> {
+        scene: &'s Scene,
+        observers: &'a mut [&'o mut dyn Observer],
+        control: &'a Control,
+        resume: Option<&'a Checkpoint>,
+    }
+    impl<'s> RotatorVisitor for Drive<'_, 's, '_> {
+        type Output = Result<Finished<'s>>;
+        fn visit<R: Rotator>(self) -> Self::Output {
+            drive_with::<R>(self.scene, self.observers, self.control, self.resume)
+        }
+    }
+    scene.sim.rotator().visit(Drive {
+        scene,
+        observers,
+        control,
+        resume,
+    })
+}
+
+/// The next multiple of `n` after `step`.
+fn next_multiple(step: u64, n: u64) -> u64 {
+    (step / n + 1) * n
+}
+
+fn drive_with<'s, R: Rotator>(
+    scene: &'s Scene,
+    observers: &mut [&mut dyn Observer],
+    control: &Control,
+    resume: Option<&Checkpoint>,
+) -> Result<Finished<'s>> {
+    let steps = scene.sim.steps();
+    let mut world = World::new(scene);
+    let mut stats = RunStats::new(&world.ledger);
+    // An output that cannot be opened when the run starts is bad input
+    // naming `--out` (exit 2); the same failure mid-run stays an I/O error.
+    let opening = (|| -> Result<()> {
+        match resume {
+            None => {
+                stats.account(&world.ledger, world.contact_stats());
+                let v = View {
+                    world: &world,
+                    stats: &stats,
+                };
+                for o in observers.iter_mut() {
+                    o.start(&v)?;
+                    if o.every().is_some() {
+                        o.row(&v)?;
+                    }
+                }
+            }
+            Some(c) => {
+                let (states, aux, restored) = checkpoint::restore(c, scene, R::Aux::LEN)?;
+                world.restore(states, aux, c.step);
+                stats = restored;
+                for o in observers.iter_mut() {
+                    o.resume(c)?;
+                }
+            }
+        }
+        Ok(())
+    })();
+    opening.map_err(crate::output::unwritable_at_start)?;
+    let first_step = world.step;
+
+    // Per observer, the next step that writes its row; the driver's next
+    // event is the nearest of those, the next checkpoint and the last step,
+    // so a step without events costs one comparison.
+    let cadence: Vec<Option<u64>> = observers.iter().map(|o| o.every()).collect();
+    let mut next_row: Vec<u64> = cadence
+        .iter()
+        .map(|e| e.map_or(u64::MAX, |n| next_multiple(world.step, n)))
+        .collect();
+    let per_step: Vec<usize> = (0..observers.len())
+        .filter(|&i| observers[i].every_step())
+        .collect();
+    let checkpoint_every = control.checkpoint_every.unwrap_or(u64::MAX);
+    let mut next_checkpoint = next_multiple(world.step, checkpoint_every);
+    let next_event = |rows: &[u64], ck: u64| rows.iter().copied().fold(ck.min(steps), u64::min);
+    let mut next = next_event(&next_row, next_checkpoint);
+    let interrupt = control.interrupt.as_ref();
+
+    let start = Instant::now();
+    let mut stopped: Option<Diagnosis> = None;
+    while world.step < steps {
+        if let Err(d) = world.step::<R>() {
+            stopped = Some(*d);
+            break;
+        }
+        stats.account(&world.ledger, world.contact_stats());
+        let v = View {
+            world: &world,
+            stats: &stats,
+        };
+        for &i in &per_step {
+            observers[i].after_step(&v);
+        }
+        let interrupted = interrupt.is_some_and(|(flag, _)| flag.load(Ordering::Relaxed));
+        if world.step < next && !interrupted {
+            continue;
+        }
+        let last = world.step == steps;
+        let mut on_cadence = vec![false; observers.len()];
+        for (i, o) in observers.iter_mut().enumerate() {
+            if world.step == next_row[i] {
+                o.row(&v)?;
+                on_cadence[i] = true;
+                next_row[i] += cadence[i].unwrap_or(u64::MAX);
+            }
+        }
+        // A checkpoint sees every on-cadence row of its step, never the
+        // off-cadence final row, so a longer resumed run writes the same bytes.
+        let periodic = world.step == next_checkpoint;
+        if periodic {
+            next_checkpoint = next_checkpoint.saturating_add(checkpoint_every);
+        }
+        if interrupted || periodic {
+            let mut c = Checkpoint::of::<R>(&world, &stats);
+            for o in observers.iter_mut() {
+                o.checkpoint(&mut c)?;
+            }
+        }
+        if last {
+            for (i, o) in observers.iter_mut().enumerate() {
+                if cadence[i].is_some() && !on_cadence[i] {
+                    o.row(&v)?;
+                }
+            }
+        }
+        if interrupted && !last {
+            let checkpoint = interrupt.map(|(_, p)| p.clone()).unwrap_or_default();
+            stopped = Some(Diagnosis {
+                kind: StopKind::Interrupted { checkpoint },
+                step: world.step,
+                t: world.time(),
+                body: None,
+                value: 2.0,
+                limit: 0.0,
+            });
+            break;
+        }
+        next = next_event(&next_row, next_checkpoint);
+    }
+    let wall_s = start.elapsed().as_secs_f64();
+    let end = RunEnd {
+        stopped: stopped.as_ref(),
+        wall_s,
+        first_step,
+    };
+    let v = View {
+        world: &world,
+        stats: &stats,
+    };
+    for o in observers.iter_mut() {
+        o.finish(&v, &end)?;
+    }
+    Ok(Finished {
+        world,
+        stats,
+        stopped,
+        wall_s,
+        first_step,
+    })
+}
+
+/// Map a finished run to the CLI's result: a stop is an error (exit 3, or
+/// 130 for an interrupt) after every output was written.
+pub fn outcome(stopped: Option<Diagnosis>) -> Result<()> {
+    match stopped {
+        Some(d) if matches!(d.kind, StopKind::Interrupted { .. }) => Err(Error::Interrupted(d)),
+        Some(d) => Err(Error::Unstable(d)),
+        None => Ok(()),
+    }
+}

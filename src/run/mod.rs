@@ -1,0 +1,139 @@
+//! Run a scene to its end: the observers of `fibresim run` wired to the one
+//! driver loop ([`driver`]), and the in-memory runs of the studies and tests.
+
+pub mod driver;
+pub mod observer;
+pub mod resume;
+pub mod stats;
+
+pub use driver::{drive, Control, Finished};
+pub use observer::{EachStep, Observer, RunEnd, View};
+pub use resume::{copy_resume_outputs, scene_from_checkpoint};
+
+use crate::error::{Diagnosis, Result};
+use crate::integrate::rotate::RotatorKind;
+use crate::integrate::step::World;
+use crate::output::checkpoint::CHECKPOINT_FILE;
+use crate::output::{
+    Checkpoint, CheckpointFile, EnergyCsv, OrientationCsv, Progress, Summary, SummaryJson,
+};
+use crate::scenario::{Scene, SimParams};
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+
+/// Set by the SIGINT handler (`main`); the run loop stops at the next step,
+/// writes a checkpoint and flushes its outputs.
+pub static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// How to run: where to write, what to show, how often to checkpoint.
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    pub out_dir: PathBuf,
+    /// Show a progress bar (only drawn when stderr is a terminal).
+    pub progress: bool,
+    /// Write `checkpoint.json` every this many steps.
+    pub checkpoint_every: Option<u64>,
+}
+
+/// Run `scene` with its rotator (`scene.sim.rotator()`), writing
+/// `energy.csv`, `orientation.csv` (scenes with a prescribed torque or a
+/// closed form) and `summary.json` into `opts.out_dir`. A run stopped by a
+/// guard returns `Err(Error::Unstable)` after writing its outputs.
+pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
+    run_from(scene, opts, None)
+}
+
+/// Continue a run from a checkpoint (`scene` rebuilt with [`scene_from_checkpoint`]).
+pub fn run_from(scene: &Scene, opts: &RunOptions, resume: Option<&Checkpoint>) -> Result<Summary> {
+    let bar = opts
+        .progress
+        .then(|| Progress::terminal(scene.sim.steps()))
+        .flatten();
+    run_observed(scene, opts, resume, bar)
+}
+
+/// [`run`] drawing its progress on `bar` (e.g. one line of a study's
+/// `MultiProgress`) instead of its own; `opts.progress` is ignored.
+pub fn run_with_bar(
+    scene: &Scene,
+    opts: &RunOptions,
+    bar: Option<indicatif::ProgressBar>,
+) -> Result<Summary> {
+    let bar = bar.map(|b| Progress::on(b, scene.sim.steps()));
+    run_observed(scene, opts, None, bar)
+}
+
+fn run_observed(
+    scene: &Scene,
+    opts: &RunOptions,
+    resume: Option<&Checkpoint>,
+    progress: Option<Progress>,
+) -> Result<Summary> {
+    let dir = &opts.out_dir;
+    crate::output::create_out_dir(dir)?;
+    let every = scene.sim.every_or_default();
+    let mut energy = EnergyCsv::new(dir, every, scene.needs_contacts());
+    let with_orientation = scene.has_prescribed_torque() || scene.reference.is_some();
+    let mut orientation =
+        with_orientation.then(|| OrientationCsv::new(dir, every, scene.reference.is_some()));
+    let mut progress = progress;
+    let mut summary = SummaryJson::new(dir, every);
+    let checkpoint_path = dir.join(CHECKPOINT_FILE);
+    let mut checkpoint = CheckpointFile {
+        path: checkpoint_path.clone(),
+    };
+    let mut observers: Vec<&mut dyn Observer> = vec![&mut energy];
+    if let Some(o) = &mut orientation {
+        observers.push(o);
+    }
+    if let Some(p) = &mut progress {
+        observers.push(p);
+    }
+    observers.push(&mut summary);
+    observers.push(&mut checkpoint); // last: it writes what the others added
+    let control = Control {
+        checkpoint_every: opts.checkpoint_every,
+        interrupt: Some((&INTERRUPTED, checkpoint_path)),
+    };
+    let finished = drive(scene, &mut observers, &control, resume)?;
+    driver::outcome(finished.stopped)?;
+    Ok(summary
+        .summary
+        .expect("the summary observer has run at the end of the drive"))
+}
+
+/// Integrate `scene` with its rotator, without writing anything, calling
+/// `observe` after every step. Returns the final world, or the diagnosis of
+/// the step that failed. Used by the studies and the tests.
+pub fn integrate_observed<'s>(
+    scene: &'s Scene,
+    observe: impl FnMut(&World),
+) -> std::result::Result<World<'s>, Diagnosis> {
+    let f = integrate_to_stop(scene, observe);
+    match f.stopped {
+        None => Ok(f.world),
+        Some(d) => Err(d),
+    }
+}
+
+/// [`integrate_observed`], returning the world also when a guard stopped
+/// the run (its ledger is that of the last measured state).
+pub fn integrate_to_stop<'s>(scene: &'s Scene, observe: impl FnMut(&World)) -> Finished<'s> {
+    let mut probe = EachStep(observe);
+    drive(scene, &mut [&mut probe], &Control::default(), None)
+        .expect("an in-memory observer writes nothing that can fail")
+}
+
+/// Integrate `scene` to its end with rotator `kind`, time step `dt`, and return
+/// the final states.
+pub fn integrate(
+    scene: &Scene,
+    kind: RotatorKind,
+    dt: f64,
+) -> std::result::Result<Vec<crate::body::BodyState>, Diagnosis> {
+    let mut s = scene.clone();
+    let steps = (scene.sim.t_end() / dt).round() as u64;
+    s.sim = SimParams::with_steps(dt, steps.max(1), kind, None)
+        .expect("a positive dt and at least one step");
+    integrate_observed(&s, |_| {}).map(|w| w.states)
+}
