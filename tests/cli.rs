@@ -423,3 +423,46 @@ fn help_lists_the_exit_codes() {
     let short = String::from_utf8_lossy(&fibresim(&["-h"]).stdout).into_owned();
     assert!(short.contains("130 interrupted"), "{short}");
 }
+
+/// The README's rotator table is `fibresim rotators --markdown`, generated
+/// from each rotator's `RotatorInfo`.
+#[test]
+fn readme_rotator_table_is_generated() {
+    let o = fibresim(&["rotators", "--markdown"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let table = String::from_utf8(o.stdout).unwrap();
+    let readme = read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md"));
+    let inside = readme
+        .split("<!-- BEGIN rotators -->\n")
+        .nth(1)
+        .and_then(|s| s.split("<!-- END rotators -->").next())
+        .expect("README has the rotator table markers");
+    assert_eq!(
+        inside, table,
+        "README's rotator table is stale: paste `fibresim rotators --markdown`"
+    );
+    for k in fibresim::integrate::rotate::RotatorKind::SELECTABLE {
+        assert!(table.contains(&format!("`{}`", k.name())));
+    }
+}
+
+/// A reader that closes the pipe early (`fibresim rotators | head`) ends the
+/// listing quietly: no panic, exit 0.
+#[test]
+fn closed_stdout_is_not_a_panic() {
+    use std::process::{Command, Stdio};
+    for args in [&["rotators"][..], &["check", "scenarios/nine_fibres.toml"]] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_fibresim"))
+            .args(args)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take()); // the reader is gone before a byte is written
+        let o = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {err}");
+    }
+}

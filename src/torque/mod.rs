@@ -45,7 +45,6 @@ impl Component {
 #[derive(Debug, Clone)]
 pub struct PrescribedTorque {
     comps: [Component; 3],
-    text: [String; 3],
 }
 
 impl PrescribedTorque {
@@ -56,7 +55,6 @@ impl PrescribedTorque {
         let c2 = Component::parse(&components[2]).map_err(|e| (2, e))?;
         Ok(PrescribedTorque {
             comps: [c0, c1, c2],
-            text: components.clone(),
         })
     }
 
@@ -68,9 +66,5 @@ impl PrescribedTorque {
             self.comps[1].eval(t),
             self.comps[2].eval(t),
         )
-    }
-
-    pub fn text(&self) -> &[String; 3] {
-        &self.text
     }
 }

@@ -80,6 +80,9 @@ rotator_list! {
     midpoint_demo::MidpointDemo,
 }
 
+#[cfg(test)]
+mod list_tests;
+
 /// Why a rotator could not take a step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum RotatorFault {
@@ -316,6 +319,8 @@ pub fn rotator_markdown() -> String {
     let mut s = String::from(
         "| name | equations | order (measured) | torque evals / step | prescribed torque | contact torque |\n|---|---|---|---|---|---|\n",
     );
+    // A `|` inside a cell would end it.
+    let cell = |t: &str| t.replace('|', "\\|");
     for k in RotatorKind::SELECTABLE {
         let i = k.info();
         let order = match i.order {
@@ -325,7 +330,12 @@ pub fn rotator_markdown() -> String {
         let _ = writeln!(
             s,
             "| `{}` | {} | {} | {} | {} | {} |",
-            i.name, i.equations, order, i.torque_evals, i.torque_contract, i.contact_contract
+            i.name,
+            i.equations,
+            order,
+            i.torque_evals,
+            cell(i.torque_contract),
+            cell(i.contact_contract)
         );
     }
     s

@@ -31,6 +31,9 @@
 //! peak Hertz force of the worst impact is often shorter than the collision
 //! itself, so it bounds δt too.
 
+mod report;
+pub use report::CheckReport;
+
 use crate::body::{Body, Material, Shape};
 use crate::contact::fibre_fibre::END_FACE_DOME_SIN;
 use crate::contact::fibre_wall::FACE_BLEND_SIN;

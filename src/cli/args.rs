@@ -1,4 +1,4 @@
-//! Command-line definitions (clap) and their conversion into checked objects.
+//! Command-line definitions (clap): the raw arguments, before any check.
 
 use crate::integrate::rotate::RotatorKind;
 use clap::{Args, Parser, Subcommand};
@@ -37,7 +37,7 @@ pub enum Command {
     /// Validate a scenario and print masses, contact and Rayleigh times, the recommended dt and what will run.
     Check(CheckArgs),
     /// List the rotators with their equations, order and torque contract.
-    Rotators,
+    Rotators(RotatorsArgs),
     /// Run several rotators on one scene at one time step (in parallel) and plot their errors against time.
     Compare(CompareArgs),
     /// Error against time step for each rotator: observed orders, convergence and work-precision figures.
@@ -46,6 +46,13 @@ pub enum Command {
     Plot(PlotArgs),
     /// Stress suite: every stress case x rotator over dt = factor x the recommended dt, far past the limit; table and stability map.
     Stress(StressArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct RotatorsArgs {
+    /// Print the README's markdown table instead.
+    #[arg(long)]
+    pub markdown: bool,
 }
 
 #[derive(Debug, Args)]

@@ -1,0 +1,131 @@
+//! The command line: raw arguments ([`args`]), checked plans ([`plan`]) and
+//! the commands that execute them. `main` only parses and maps errors to
+//! exit codes.
+
+pub mod args;
+pub mod plan;
+
+pub use args::{Cli, Command, EXIT_CODES};
+
+use crate::advice::CheckReport;
+use crate::error::{Error, Result};
+use crate::integrate::rotate::{rotator_markdown, rotator_table};
+use std::io::Write;
+
+/// Execute one command.
+pub fn execute(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Run(args) => run(args.plan()?),
+        Command::Check(args) => {
+            let p = args.plan()?;
+            print(&CheckReport {
+                scene: &p.scene,
+                advice: &p.advice,
+            })
+        }
+        Command::Rotators(args) => match args.markdown {
+            true => print(&rotator_markdown()),
+            false => print(&rotator_table()),
+        },
+        Command::Compare(args) => {
+            use crate::study::compare::{compare, print_report};
+            let (scene, opts) = args.plan()?;
+            let report = compare(&scene, &opts)?;
+            if opts.progress {
+                print_report(&report);
+                println!("-> {}", opts.out_dir.display());
+            }
+            Ok(())
+        }
+        Command::Converge(args) => {
+            use crate::study::converge::{converge, print_report};
+            let (scene, opts) = args.plan()?;
+            let report = converge(&scene, &opts)?;
+            if opts.progress {
+                print_report(&report);
+                println!("-> {}", opts.out_dir.display());
+            }
+            Ok(())
+        }
+        Command::Plot(args) => {
+            let out = crate::study::csvplot::plot_files(&crate::study::csvplot::PlotOptions {
+                files: args.files,
+                out: args.output,
+                column: args.column,
+                x: args.x,
+                log_x: args.log_x,
+                log_y: args.log_y,
+            })?;
+            println!("{}", out.display());
+            Ok(())
+        }
+        Command::Stress(args) => {
+            use crate::study::stress::{print_report, stress};
+            let (cases, opts) = args.plan()?;
+            let report = stress(cases, &opts)?;
+            if opts.progress {
+                print_report(&report);
+                println!("-> {}", opts.out_dir.display());
+            }
+            Ok(())
+        }
+    }
+}
+
+/// Write `text` to stdout. A closed pipe (`fibresim rotators | head`) is
+/// the reader's choice, not an error: stop quietly.
+fn print(text: &dyn std::fmt::Display) -> Result<()> {
+    let mut out = std::io::stdout().lock();
+    match write!(out, "{text}").and_then(|_| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Error::io("<stdout>", e)),
+        _ => Ok(()),
+    }
+}
+
+/// `fibresim run`: warnings, the resumed outputs, the run, and its summary.
+fn run(plan: plan::RunPlan) -> Result<()> {
+    for w in &plan.advice.warnings {
+        eprintln!("warning: {w}");
+    }
+    let out_dir = &plan.opts.out_dir;
+    if let Some((c, from)) = &plan.resume {
+        crate::run::copy_resume_outputs(c, from, out_dir)?;
+    }
+    // Ctrl-C: finish the current step, write a checkpoint, flush, exit 130.
+    let _ = ctrlc::set_handler(|| {
+        crate::run::INTERRUPTED.store(true, std::sync::atomic::Ordering::Relaxed)
+    });
+    let scene = &plan.scene;
+    let outcome = crate::run::run_from(scene, &plan.opts, plan.resume.as_ref().map(|r| &r.0));
+    match &outcome {
+        Ok(s) if !plan.quiet => {
+            println!(
+                "{}: {} steps of {:e} s with {} in {:.3} s ({:.1} ns per body-step) -> {}",
+                scene.source,
+                s.steps,
+                s.dt,
+                s.rotator,
+                s.wall_s,
+                s.ns_per_body_step,
+                out_dir.display()
+            );
+            if let (Some(m), Some(f)) = (s.energy_error_full_max_pct, s.energy_error_full_final_pct)
+            {
+                println!(
+                    "energy error (Eq. 65 with elastic energy): max {m:.3e} %, final {f:.3e} %"
+                );
+            }
+            if let Some(o) = s.max_overlap_ratio {
+                println!("largest overlap: {o:.3e} D");
+            }
+            if let Some(e) = s.reference_error_final_rad {
+                println!("closed-form reference: final angle error {e:.3e} rad");
+            }
+        }
+        Err(Error::Unstable(_) | Error::Interrupted(_)) => {
+            eprintln!("outputs so far kept in {}", out_dir.display())
+        }
+        _ => {}
+    }
+    outcome.map(|_| ())
+}

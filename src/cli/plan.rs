@@ -1,0 +1,225 @@
+//! Raw arguments turned once into checked, ready-to-run plans (ripgrep's
+//! "args → checked objects"): every flag check lives here, so the commands
+//! only execute.
+
+use super::args::{CheckArgs, CompareArgs, ConvergeArgs, RunArgs, StressArgs};
+use crate::advice::{advise, Advice};
+use crate::error::{Error, Result};
+use crate::output::Checkpoint;
+use crate::run::RunOptions;
+use crate::scenario::{self, Scene, SimParams};
+use crate::study::compare::CompareOptions;
+use crate::study::converge::ConvergeOptions;
+use crate::study::stress::{load_cases, StressCase, StressOptions};
+use std::path::{Path, PathBuf};
+
+/// The default scene of `fibresim run` with no scenario.
+const DEFAULT_SCENE: (&str, &str) = (
+    "<built-in nine_fibres>",
+    include_str!("../../scenarios/nine_fibres.toml"),
+);
+
+/// `fibresim run`, checked.
+pub struct RunPlan {
+    pub scene: Scene,
+    pub opts: RunOptions,
+    /// The checkpoint to continue, and the folder it was found in.
+    pub resume: Option<(Checkpoint, PathBuf)>,
+    pub advice: Advice,
+    pub quiet: bool,
+}
+
+/// `fibresim check`, checked.
+pub struct CheckPlan {
+    pub scene: Scene,
+    pub advice: Advice,
+}
+
+/// A flag that must be a finite number > 0.
+pub fn positive_flag(flag: &str, v: f64) -> Result<f64> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(Error::bad(
+            "command line",
+            flag,
+            format!("must be a finite number > 0, got {v}"),
+        ))
+    }
+}
+
+/// The scene of `run`: the file (or the built-in default) with the flags'
+/// overrides, and the stem that names its default output folder.
+fn run_scene(args: &RunArgs) -> Result<(Scene, String)> {
+    let (mut scene, stem) = match &args.scenario {
+        Some(p) => (scenario::load(p)?, stem(p)),
+        None => (
+            scenario::parse_str(DEFAULT_SCENE.1, DEFAULT_SCENE.0)?,
+            "default".to_string(),
+        ),
+    };
+    if args.rotator.is_some() || args.dt.is_some() || args.t_end.is_some() || args.every.is_some() {
+        let s = &scene.sim;
+        scene.sim = SimParams::new(
+            args.dt.unwrap_or(s.dt()),
+            args.t_end.unwrap_or(s.t_end()),
+            args.rotator.unwrap_or(s.rotator()),
+            args.every.or(s.every()),
+            "command line",
+            "--",
+        )?;
+    }
+    if let Some(v) = args.max_energy_error {
+        scene.guards.energy_error_pct = positive_flag("--max-energy-error", v)?;
+    }
+    if let Some(v) = args.max_overlap {
+        scene.guards.overlap_ratio = positive_flag("--max-overlap", v)?;
+    }
+    Ok((scene, stem))
+}
+
+fn stem(p: &Path) -> String {
+    p.file_stem()
+        .map_or("scene".into(), |s| s.to_string_lossy().into_owned())
+}
+
+impl RunArgs {
+    /// Check the flags, load the scene (or the checkpoint's), and apply the
+    /// time-step advice's hard limit.
+    pub fn plan(self) -> Result<RunPlan> {
+        let checkpoint = self.resume.as_deref().map(Checkpoint::read).transpose()?;
+        let (scene, stem) = match &checkpoint {
+            Some(c) => (
+                crate::run::scene_from_checkpoint(c, self.t_end)?,
+                "resumed".to_string(),
+            ),
+            None => run_scene(&self)?,
+        };
+        if self.checkpoint_every == Some(0) {
+            return Err(Error::bad(
+                "command line",
+                "--checkpoint-every",
+                "must be >= 1",
+            ));
+        }
+        let advice = advise(&scene);
+        if let Some(limit) = advice.hard_limit_dt {
+            let dt = scene.sim.dt();
+            if dt > limit && !self.allow_large_dt {
+                return Err(Error::bad(
+                    &scene.source,
+                    "simulation.dt",
+                    format!(
+                        "dt = {dt:e} s leaves fewer than 5 steps for the shortest Hertz collision or face-tilt period ({:.3e} s); use dt <= {:.3e} s (see `fibresim check`), or --allow-large-dt to run anyway",
+                        limit * 5.0,
+                        advice.recommended_dt.unwrap_or(limit)
+                    ),
+                ));
+            }
+        }
+        // The checkpoint's folder ("." for a bare `checkpoint.json`).
+        let checkpoint_dir = self.resume.as_ref().map(|p| {
+            p.parent()
+                .filter(|d| !d.as_os_str().is_empty())
+                .map_or_else(|| PathBuf::from("."), PathBuf::from)
+        });
+        let default_out = match &checkpoint_dir {
+            Some(d) => d.clone(),
+            None => PathBuf::from("out")
+                .join(&stem)
+                .join(scene.sim.rotator().name()),
+        };
+        Ok(RunPlan {
+            opts: RunOptions {
+                out_dir: self.out.unwrap_or(default_out),
+                progress: !self.quiet,
+                checkpoint_every: self.checkpoint_every,
+            },
+            resume: checkpoint.zip(checkpoint_dir),
+            scene,
+            advice,
+            quiet: self.quiet,
+        })
+    }
+}
+
+impl CheckArgs {
+    pub fn plan(self) -> Result<CheckPlan> {
+        let mut scene = scenario::load(&self.scenario)?;
+        if let Some(dt) = self.dt {
+            let s = &scene.sim;
+            scene.sim =
+                SimParams::new(dt, s.t_end(), s.rotator(), s.every(), "command line", "--")?;
+        }
+        let advice = advise(&scene);
+        Ok(CheckPlan { scene, advice })
+    }
+}
+
+/// A study's scene and its default output folder `out/<stem>/<sub>`.
+fn study_scene(path: &Path, sub: &str) -> Result<(Scene, PathBuf)> {
+    Ok((
+        scenario::load(path)?,
+        PathBuf::from("out").join(stem(path)).join(sub),
+    ))
+}
+
+impl CompareArgs {
+    pub fn plan(self) -> Result<(Scene, CompareOptions)> {
+        let (scene, default_out) = study_scene(&self.scenario, "compare")?;
+        let opts = CompareOptions {
+            rotators: crate::study::parse_rotators(Some(&self.rotators))?,
+            dt: self.dt,
+            t_end: self.t_end,
+            out_dir: self.out.unwrap_or(default_out),
+            progress: !self.quiet,
+        };
+        Ok((scene, opts))
+    }
+}
+
+impl ConvergeArgs {
+    pub fn plan(self) -> Result<(Scene, ConvergeOptions)> {
+        let (scene, default_out) = study_scene(&self.scenario, "converge")?;
+        let opts = ConvergeOptions {
+            rotators: crate::study::parse_rotators(Some(&self.rotators))?,
+            dt_max: self.dt_max,
+            dt_min: self.dt_min,
+            points: self.points,
+            t_end: self.t_end,
+            ref_factor: self.ref_factor,
+            out_dir: self.out.unwrap_or(default_out),
+            progress: !self.quiet,
+        };
+        Ok((scene, opts))
+    }
+}
+
+impl StressArgs {
+    pub fn plan(self) -> Result<(Vec<StressCase>, StressOptions)> {
+        let factors = self
+            .factors
+            .split(',')
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+            .map(|s| {
+                s.parse::<f64>().map_err(|_| {
+                    Error::bad(
+                        "command line",
+                        "--factors",
+                        format!("{s:?} is not a number; give e.g. 0.25,1,4,16"),
+                    )
+                })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let opts = StressOptions {
+            rotators: crate::study::parse_rotators(Some(&self.rotators))?,
+            factors,
+            energy_tol_pct: positive_flag("--energy-tol", self.energy_tol)?,
+            outcome_tol_pct: positive_flag("--outcome-tol", self.outcome_tol)?,
+            out_dir: self.out,
+            progress: !self.quiet,
+        };
+        Ok((load_cases(&self.dir, &self.cases)?, opts))
+    }
+}
