@@ -1,4 +1,4 @@
-//! Shapes, their mass properties (SPEC §2), and the per-body state.
+//! Shapes, their mass properties (docs/physics.md §2), and the per-body state.
 
 use glam::{DQuat, DVec3};
 

@@ -1,4 +1,4 @@
-//! Energy ledger with named terms (SPEC §5, paper Eq. 64–65).
+//! Energy ledger with named terms (docs/physics.md §5, paper Eq. 64–65).
 
 use crate::body::{Body, BodyState};
 use glam::DVec3;
@@ -13,7 +13,7 @@ pub struct Ledger {
     pub translation: f64,
     /// `Σ ½ ω_b · I ω_b`.
     pub rotation: f64,
-    /// `Σ U` over live contacts (Hertz, SPEC §3).
+    /// `Σ U` over live contacts (Hertz, docs/physics.md §3).
     pub elastic: f64,
 }
 

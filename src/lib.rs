@@ -1,7 +1,7 @@
 //! fibresim: a DEM simulator for frictionless, elastic (Hertzian) rigid cylindrical
 //! fibres, built to compare quaternion rotation integrators (Zhao & van Wachem 2013).
 //!
-//! Conventions (SPEC §1):
+//! Conventions (docs/physics.md §1):
 //! - SI units everywhere; gravity along −z by default; the box floor is z = 0.
 //! - Unit quaternions `q = [w, x, y, z]`, Hamilton product (paper Eq. 14), scalar
 //!   first in every file fibresim reads or writes (glam stores them `xyzw` in memory).

@@ -1,5 +1,5 @@
 //! `fibresim check` and the `run` warning: every printed number against a
-//! value computed here from its closed form (SPEC §2, §3, §8), not from the
+//! value computed here from its closed form (docs/physics.md §2, §3, §8), not from the
 //! library's functions.
 
 mod common;

@@ -1,4 +1,4 @@
-//! Every run-time guard (SPEC §8) through the CLI: exit code 3, the named
+//! Every run-time guard (docs/physics.md §8) through the CLI: exit code 3, the named
 //! diagnosis on stderr and in `summary.json` (`stopped`), and every row before
 //! the stop intact. The quaternion-norm guard is unreachable with correct
 //! rotators, so it is checked on a `World` directly.

@@ -43,7 +43,7 @@ fn every_listed_rotator_has_its_stated_order() {
 
 /// Leap-frog is second order on a sphere, where ω does not depend on q (the
 /// `q_n` conversion of its half-step velocity is exact): test case 3 against
-/// its closed form (SPEC §6), the reference that needs no estimate.
+/// its closed form (docs/physics.md §6), the reference that needs no estimate.
 #[test]
 fn leapfrog_is_second_order_on_a_sphere() {
     let scene = scene_file("torque_sphere.toml");

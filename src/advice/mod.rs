@@ -1,4 +1,4 @@
-//! Time-step advice (SPEC §8): Hertz contact time at the largest plausible
+//! Time-step advice (docs/physics.md §8): Hertz contact time at the largest plausible
 //! impact speed, Rayleigh time, and the recommended δt.
 //!
 //! **Impact-speed bound.** Nothing dissipates energy, so no body can ever move

@@ -1,7 +1,7 @@
 //! Validate a parsed [`ScenarioFile`] once into a ready-to-run [`Scene`]
 //! (ripgrep's "raw args → checked objects"). Only what the scene declares is
 //! built: no walls without `[box]`, no gravity without `world.gravity`, no
-//! contact search for a single body without walls (SPEC §7).
+//! contact search for a single body without walls (docs/physics.md §7).
 
 use super::file::{BodySection, ReferenceSection, ScenarioFile, ShapeName};
 use crate::body::{Body, BodyState, Material, MaterialId, RotState, Shape};
@@ -144,7 +144,7 @@ impl SimParams {
     }
 }
 
-/// Limits that stop a run early with a named diagnosis (SPEC §8).
+/// Limits that stop a run early with a named diagnosis (docs/physics.md §8).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Guards {
     /// Largest full-budget energy error (Eq. 65 with the elastic term), percent.

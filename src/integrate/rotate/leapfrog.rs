@@ -7,7 +7,7 @@
 //! 2. `ω_{n+½} = q_n I⁻¹ (q_n* L_{n+½} q_n) q_n*` — converted with `q_n`, the
 //!    time-level mixing the paper criticises in §3.3;
 //! 3. `β = [1, (δt/4) ω_{n+½}]` (Eq. 35–36), `q̃ = ββ/‖β‖²` (Eq. 37 corrected as in
-//!    SPEC §1: the paper's `‖β‖²/A` is not unit), `q_{n+1} = q̃ q_n` (Eq. 39); the
+//!    docs/physics.md §1: the paper's `‖β‖²/A` is not unit), `q_{n+1} = q̃ q_n` (Eq. 39); the
 //!    rotation angle is `4 atan(‖ω‖δt/4) = ‖ω‖δt + O(δt³)`;
 //! 4. after forces: `L_{n+1} = L_{n+½} + (δt/2) τ(t_{n+1}, q_{n+1})`.
 //!
