@@ -784,7 +784,7 @@ fn write_outputs(r: &StressReport, opts: &StressOptions) -> Result<()> {
 }
 
 /// Rotator × δt-factor map, one panel per case.
-pub fn stability_map(r: &StressReport, opts: &StressOptions) -> CellMap {
+pub(crate) fn stability_map(r: &StressReport, opts: &StressOptions) -> CellMap {
     let mut factors = opts.factors.clone();
     factors.sort_by(f64::total_cmp);
     factors.dedup();
