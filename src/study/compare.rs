@@ -15,12 +15,14 @@
 //!   cusps make an unreadable log plot; `converge` reports Eq. 66–67.
 
 use super::csvplot::Table;
-use super::{cell, fmt_e, render_both, with_params, write_csv, Progress};
+use super::{
+    cell, fmt_e, render_both, sample_orientations, scene_name, with_params, write_csv, Progress,
+};
 use crate::error::{Error, Result};
 use crate::integrate::rotate::RotatorKind;
 use crate::math::geodesic_angle;
 use crate::plot::{Chart, LegendPos, Series, Style};
-use crate::run::{integrate_observed, run_with_bar, RunOptions};
+use crate::run::{run_with_bar, RunOptions};
 use crate::scenario::Scene;
 use glam::DQuat;
 use rayon::prelude::*;
@@ -146,24 +148,8 @@ pub fn compare(scene: &Scene, opts: &CompareOptions) -> Result<CompareReport> {
             return Ok(None);
         }
         let fine = with_params(scene, RotatorKind::Rk4, dt / REF_FACTOR as f64, t_end)?;
-        let bar = progress.run_bar("rk4 reference", fine.sim.steps());
-        let tick = super::tick(fine.sim.steps());
-        let mut q: Vec<DQuat> = scene.initial.iter().map(|b| b.rot.q).collect();
-        let r = integrate_observed(&fine, |w| {
-            if w.step % REF_FACTOR == 0 {
-                q.extend(w.states.iter().map(|b| b.rot.q));
-            }
-            if let Some(b) = &bar {
-                if w.step % tick == 0 {
-                    b.set_position(w.step);
-                }
-            }
-        });
-        if let Some(b) = bar {
-            b.finish_and_clear();
-        }
-        progress.done(fine.sim.steps() * nb);
-        r.map_err(Error::Unstable)?;
+        let q = sample_orientations(&fine, REF_FACTOR, &progress, "rk4 reference")
+            .map_err(Error::Unstable)?;
         Ok(Some(q))
     };
     let (timings, reference) = rayon::join(runs, reference);
@@ -294,7 +280,7 @@ fn write_outputs(scene: &Scene, r: &CompareReport, opts: &CompareOptions, dt: f6
         &rows,
     )?;
 
-    let name = scene.source.rsplit('/').next().unwrap_or(&scene.source);
+    let name = scene_name(scene);
     let mut chart = Chart::new(
         format!("{name}: rotators at δt = {dt:e} s"),
         "time t (s)",
