@@ -112,17 +112,6 @@ pub struct Point {
     pub stopped: Option<String>,
 }
 
-impl Point {
-    /// The metric plotted and fitted first: Eq. 67 or the max full-budget
-    /// Eq. 65 error.
-    pub fn primary(&self, mode: Mode) -> f64 {
-        match mode {
-            Mode::Orientation => self.alpha_rad,
-            Mode::Energy => self.energy_full_max_pct,
-        }
-    }
-}
-
 /// Fitted orders of one rotator for one metric.
 #[derive(Debug, Clone)]
 pub struct Orders {

@@ -57,7 +57,7 @@ pub const ENERGY_TOL_PCT: f64 = 1.0;
 /// Default outcome tolerance, percent of the reference's largest rim speed.
 pub const OUTCOME_TOL_PCT: f64 = 5.0;
 /// Rotation per step at the recommended δt of a contact-free scene, rad.
-pub const SPIN_ANGLE_PER_STEP: f64 = 0.05;
+pub(crate) const SPIN_ANGLE_PER_STEP: f64 = 0.05;
 
 /// Options of the stress sweep.
 #[derive(Debug, Clone)]

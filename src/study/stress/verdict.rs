@@ -27,7 +27,7 @@ impl Verdict {
     }
 
     /// How the run ended, in a few words (tables).
-    pub fn short(&self, o: &StressOptions) -> String {
+    pub(crate) fn short(&self, o: &StressOptions) -> String {
         match self {
             Verdict::Stable => "stable".into(),
             Verdict::Energy => format!("finished, energy/L error > {} %", o.energy_tol_pct),
@@ -79,7 +79,7 @@ impl Verdict {
     }
 
     /// How the instability was detected, for the tables.
-    pub fn detection(&self, r: &StressRun, o: &StressOptions) -> String {
+    pub(crate) fn detection(&self, r: &StressRun, o: &StressOptions) -> String {
         match self {
             Verdict::Stable => String::new(),
             Verdict::Energy => format!(
