@@ -2,7 +2,7 @@
 //! against another, one series per file (or per rotator for study tables).
 //!
 //! Axes are labelled with the column name and its unit (for the columns we
-//! write; see [`column_label`]). An axis is logarithmic when asked
+//! write; see `column_label`). An axis is logarithmic when asked
 //! (`--log-x`, `--log-y`) or when its data call for it ([`wants_log`]).
 
 use super::plot_error;

@@ -9,7 +9,7 @@
 //! symmetric top).
 //!
 //! **Stable** means all of:
-//! 1. the run reached `t_end` without a guard stop (a [`Diagnosis`]) or a panic;
+//! 1. the run reached `t_end` without a guard stop (a [`Diagnosis`](crate::error::Diagnosis)) or a panic;
 //! 2. *energy*: the largest full-budget energy error over all steps (Eq. 65
 //!    with the elastic energy of live contacts; nothing dissipates) is at most
 //!    `energy_tol_pct`; in contact-free scenes also the error of the world
@@ -43,7 +43,7 @@ pub use case::{load_cases, wildcard, StressCase};
 pub use summary::StressSummary;
 pub use sweep::StressRun;
 pub use tables::print_report;
-pub(crate) use verdict::Class;
+use verdict::Class;
 pub use verdict::Verdict;
 
 use crate::error::{Error, Result};

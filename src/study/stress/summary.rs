@@ -21,7 +21,7 @@ pub struct StressSummary {
     /// Largest error (energy, or angular momentum if larger) of the run at
     /// the recommended δt, percent.
     pub err_at_recommended_pct: f64,
-    /// How the run at the recommended δt ended ([`Verdict::short`](super::Verdict::short)).
+    /// How the run at the recommended δt ended, in a few words.
     pub at_recommended: String,
     /// The unstable runs, summarised: consecutive factors with the same
     /// detection grouped, e.g. `x0.25-0.5: energy/L error > tol`.

@@ -216,7 +216,6 @@ pub(super) fn sweep(cases: &[StressCase], opts: &StressOptions) -> Result<Vec<St
         jobs.iter().map(|j| work(&j.scene)).sum::<u64>() + refs.iter().map(work).sum::<u64>();
     let progress = Progress::new(opts.progress, total, "stress");
 
-    // References first (each case's outcome criterion needs its own).
     let references: Vec<Raw> = refs
         .par_iter()
         .zip(cases)
