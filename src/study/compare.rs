@@ -15,46 +15,63 @@
 //!   cusps make an unreadable log plot; `converge` reports Eq. 66–67.
 
 use super::csvplot::Table;
-use super::{cell, fmt_e, render_both, with_params, write_csv, Progress};
+use super::{
+    cell, fmt_e, render_both, sample_orientations, scene_name, with_params, write_csv, Progress,
+};
 use crate::error::{Error, Result};
 use crate::integrate::rotate::RotatorKind;
 use crate::math::geodesic_angle;
 use crate::plot::{Chart, LegendPos, Series, Style};
-use crate::run::{integrate_observed, run_with_bar, RunOptions};
+use crate::run::{run_with_bar, RunOptions};
 use crate::scenario::Scene;
 use glam::DQuat;
 use rayon::prelude::*;
 use std::path::PathBuf;
 use std::time::Instant;
 
+/// Options of `fibresim compare`.
 #[derive(Debug, Clone)]
 pub struct CompareOptions {
+    /// The rotators run side by side.
     pub rotators: Vec<RotatorKind>,
+    /// Time step, s; default the scene's.
     pub dt: Option<f64>,
+    /// End time, s; default the scene's.
     pub t_end: Option<f64>,
+    /// Folder of the table, the figure and one run folder per rotator.
     pub out_dir: PathBuf,
+    /// Draw progress bars (on a terminal only).
     pub progress: bool,
 }
 
 /// One rotator's line of the table.
 #[derive(Debug, Clone)]
 pub struct CompareRow {
+    /// The rotator.
     pub rotator: RotatorKind,
+    /// Largest error over the output rows, in the metric's unit.
     pub max_error: f64,
+    /// Error at the last output row.
     pub final_error: f64,
+    /// Wall time of the run, s.
     pub wall_s: f64,
+    /// Wall time per body and step, ns.
     pub ns_per_body_step: f64,
+    /// The guard's diagnosis if the run stopped.
     pub stopped: Option<String>,
-    /// The error series plotted: (t, error).
+    /// The error series plotted: times, s …
     pub t: Vec<f64>,
+    /// … and the errors at them.
     pub err: Vec<f64>,
 }
 
+/// The table and figure of `fibresim compare`.
 pub struct CompareReport {
     /// Name of the error metric, with its unit.
     pub metric: &'static str,
     /// Stem of the figure (`.png` and `.svg`), named by the metric.
     pub figure: &'static str,
+    /// One row per rotator, in the order asked.
     pub rows: Vec<CompareRow>,
 }
 
@@ -88,6 +105,8 @@ impl Metric {
 /// ~10⁻⁴ of rk4's own at δt, far below every first- and second-order scheme).
 const REF_FACTOR: u64 = 10;
 
+/// Run every rotator of `opts` on `scene` and write the runs, `compare.csv`
+/// and the error figure.
 pub fn compare(scene: &Scene, opts: &CompareOptions) -> Result<CompareReport> {
     let dt = opts.dt.unwrap_or(scene.sim.dt());
     let t_end = opts.t_end.unwrap_or(scene.sim.t_end());
@@ -146,24 +165,8 @@ pub fn compare(scene: &Scene, opts: &CompareOptions) -> Result<CompareReport> {
             return Ok(None);
         }
         let fine = with_params(scene, RotatorKind::Rk4, dt / REF_FACTOR as f64, t_end)?;
-        let bar = progress.run_bar("rk4 reference", fine.sim.steps());
-        let tick = super::tick(fine.sim.steps());
-        let mut q: Vec<DQuat> = scene.initial.iter().map(|b| b.rot.q).collect();
-        let r = integrate_observed(&fine, |w| {
-            if w.step % REF_FACTOR == 0 {
-                q.extend(w.states.iter().map(|b| b.rot.q));
-            }
-            if let Some(b) = &bar {
-                if w.step % tick == 0 {
-                    b.set_position(w.step);
-                }
-            }
-        });
-        if let Some(b) = bar {
-            b.finish_and_clear();
-        }
-        progress.done(fine.sim.steps() * nb);
-        r.map_err(Error::Unstable)?;
+        let q = sample_orientations(&fine, REF_FACTOR, &progress, "rk4 reference")
+            .map_err(Error::Unstable)?;
         Ok(Some(q))
     };
     let (timings, reference) = rayon::join(runs, reference);
@@ -294,7 +297,7 @@ fn write_outputs(scene: &Scene, r: &CompareReport, opts: &CompareOptions, dt: f6
         &rows,
     )?;
 
-    let name = scene.source.rsplit('/').next().unwrap_or(&scene.source);
+    let name = scene_name(scene);
     let mut chart = Chart::new(
         format!("{name}: rotators at δt = {dt:e} s"),
         "time t (s)",
@@ -326,6 +329,7 @@ fn write_outputs(scene: &Scene, r: &CompareReport, opts: &CompareOptions, dt: f6
     render_both(&chart, dir, r.figure)
 }
 
+/// The table as printed by `fibresim compare`.
 pub fn print_report(r: &CompareReport) {
     println!("error metric: {} (figure {}.png/.svg)", r.metric, r.figure);
     println!(

@@ -2,7 +2,7 @@
 //! against another, one series per file (or per rotator for study tables).
 //!
 //! Axes are labelled with the column name and its unit (for the columns we
-//! write; see [`column_label`]). An axis is logarithmic when asked
+//! write; see `column_label`). An axis is logarithmic when asked
 //! (`--log-x`, `--log-y`) or when its data call for it ([`wants_log`]).
 
 use super::plot_error;
@@ -11,14 +11,18 @@ use crate::plot::{Chart, Series, Style};
 use std::path::{Path, PathBuf};
 
 /// A CSV file as text cells.
-pub struct Table {
-    pub path: PathBuf,
-    pub header: Vec<String>,
-    pub rows: Vec<Vec<String>>,
+pub(crate) struct Table {
+    /// The file read, for messages.
+    pub(crate) path: PathBuf,
+    /// Column names.
+    pub(crate) header: Vec<String>,
+    /// The cells, row by row.
+    pub(crate) rows: Vec<Vec<String>>,
 }
 
 impl Table {
-    pub fn read(path: &Path) -> Result<Table> {
+    /// Read `path`; unreadable or malformed CSV is bad input naming it.
+    pub(crate) fn read(path: &Path) -> Result<Table> {
         let bad = |m: String| Error::bad(path.display().to_string(), "file", m);
         let mut r = csv::Reader::from_path(path).map_err(|e| bad(format!("cannot read: {e}")))?;
         let header = r
@@ -39,12 +43,13 @@ impl Table {
         })
     }
 
-    pub fn index(&self, name: &str) -> Option<usize> {
+    /// Index of column `name`.
+    pub(crate) fn index(&self, name: &str) -> Option<usize> {
         self.header.iter().position(|h| h == name)
     }
 
     /// Index of `name`, or a BadInput naming the columns that exist.
-    pub fn require(&self, name: &str, flag: &str) -> Result<usize> {
+    pub(crate) fn require(&self, name: &str, flag: &str) -> Result<usize> {
         self.index(name).ok_or_else(|| {
             Error::bad(
                 self.path.display().to_string(),
@@ -58,7 +63,7 @@ impl Table {
     }
 
     /// Column `i` as numbers; empty or non-numeric cells are NaN.
-    pub fn numbers(&self, i: usize) -> Vec<f64> {
+    pub(crate) fn numbers(&self, i: usize) -> Vec<f64> {
         self.rows
             .iter()
             .map(|r| {
@@ -73,11 +78,18 @@ impl Table {
 /// Options of `fibresim plot`.
 #[derive(Debug, Clone)]
 pub struct PlotOptions {
+    /// The CSV files, one series each (study tables: one per rotator).
     pub files: Vec<PathBuf>,
+    /// The figure (`.png` or `.svg`); default `<first stem>_<column>.png`
+    /// beside the first file.
     pub out: Option<PathBuf>,
+    /// The y column; default by the kind of file.
     pub column: Option<String>,
+    /// The x column; default `t`, else `dt`.
     pub x: Option<String>,
+    /// Force a logarithmic x axis.
     pub log_x: bool,
+    /// Force a logarithmic y axis.
     pub log_y: bool,
 }
 
@@ -118,7 +130,7 @@ fn meaning(name: &str) -> Option<&'static str> {
 /// Axis label of column `name` of `table`: `name: meaning (unit)`. The
 /// study tables' `max_error`/`final_error` take the unit of their `metric`
 /// column (e.g. `angle to rk4 at δt/10 (rad)`).
-pub fn column_label(name: &str, table: &Table) -> String {
+pub(crate) fn column_label(name: &str, table: &Table) -> String {
     let unit = unit(name).map(str::to_string).or_else(|| {
         if !matches!(name, "max_error" | "final_error") {
             return None;

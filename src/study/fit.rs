@@ -3,6 +3,7 @@
 /// A fitted power law `error ≈ c · δt^order`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OrderFit {
+    /// The fitted exponent `order`.
     pub order: f64,
     /// `ln c`.
     pub log_c: f64,

@@ -10,10 +10,12 @@ pub mod fit;
 pub mod order;
 pub mod stress;
 
-use crate::error::{Error, Result};
+use crate::error::{Diagnosis, Error, Result};
 use crate::integrate::rotate::RotatorKind;
 use crate::plot::{Chart, PlotError};
+use crate::run::integrate_observed;
 use crate::scenario::{Scene, SimParams};
+use glam::DQuat;
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::Path;
@@ -49,14 +51,14 @@ pub fn parse_rotators(list: Option<&str>) -> Result<Vec<RotatorKind>> {
 }
 
 /// `scene` with rotator `kind`, step `dt` and end time `t_end` (checked).
-pub fn with_params(scene: &Scene, kind: RotatorKind, dt: f64, t_end: f64) -> Result<Scene> {
+pub(crate) fn with_params(scene: &Scene, kind: RotatorKind, dt: f64, t_end: f64) -> Result<Scene> {
     let mut s = scene.clone();
     s.sim = SimParams::new(dt, t_end, kind, scene.sim.every(), "command line", "--")?;
     Ok(s)
 }
 
 /// Render `chart` to `<stem>.png` and `<stem>.svg` in `dir`.
-pub fn render_both(chart: &Chart, dir: &Path, stem: &str) -> Result<()> {
+pub(crate) fn render_both(chart: &Chart, dir: &Path, stem: &str) -> Result<()> {
     for ext in ["png", "svg"] {
         let p = dir.join(format!("{stem}.{ext}"));
         crate::plot::render(chart, &p).map_err(plot_error)?;
@@ -64,31 +66,25 @@ pub fn render_both(chart: &Chart, dir: &Path, stem: &str) -> Result<()> {
     Ok(())
 }
 
-pub fn plot_error(e: PlotError) -> Error {
-    let path = match &e {
-        PlotError::UnsupportedFormat { path }
-        | PlotError::LengthMismatch { path, .. }
-        | PlotError::Font { path }
-        | PlotError::Draw { path, .. }
-        | PlotError::Encode { path, .. }
-        | PlotError::Io { path, .. } => path.clone(),
-    };
+/// A figure that could not be written: bad input for a format we do not
+/// write (only `fibresim plot -o` chooses one), else an I/O error.
+pub(crate) fn plot_error(e: PlotError) -> Error {
     if let PlotError::UnsupportedFormat { .. } = e {
         return Error::bad("command line", "-o", e.to_string());
     }
-    Error::io(path, std::io::Error::other(e.to_string()))
+    Error::io(e.path(), std::io::Error::other(e.to_string()))
 }
 
 /// Progress of a study: one bar per run plus an overall bar with ETA, drawn
 /// only when stderr is a terminal (all no-ops otherwise).
-pub struct Progress {
+pub(crate) struct Progress {
     mp: Option<MultiProgress>,
     overall: Option<ProgressBar>,
 }
 
 impl Progress {
     /// `total` is the total work in body-steps (so the ETA weighs long runs).
-    pub fn new(enabled: bool, total: u64, what: &str) -> Self {
+    pub(crate) fn new(enabled: bool, total: u64, what: &str) -> Self {
         if !enabled || !std::io::stderr().is_terminal() {
             return Progress {
                 mp: None,
@@ -110,7 +106,7 @@ impl Progress {
     }
 
     /// A bar for one run, labelled `label`, of `steps` steps.
-    pub fn run_bar(&self, label: &str, steps: u64) -> Option<ProgressBar> {
+    pub(crate) fn run_bar(&self, label: &str, steps: u64) -> Option<ProgressBar> {
         let mp = self.mp.as_ref()?;
         let pb = mp.add(ProgressBar::new(steps));
         pb.set_style(
@@ -122,22 +118,82 @@ impl Progress {
         Some(pb)
     }
 
+    /// [`Progress::run_bar`], moved on by the step from a run's observer.
+    pub(crate) fn step_bar(&self, label: &str, steps: u64) -> StepBar {
+        StepBar {
+            bar: self.run_bar(label, steps),
+            every: (steps / 200).max(1),
+        }
+    }
+
     /// Mark `work` body-steps done on the overall bar.
-    pub fn done(&self, work: u64) {
+    pub(crate) fn done(&self, work: u64) {
         if let Some(o) = &self.overall {
             o.inc(work);
         }
     }
 
-    pub fn finish(&self) {
+    /// Clear the overall bar.
+    pub(crate) fn finish(&self) {
         if let Some(o) = &self.overall {
             o.finish_and_clear();
         }
     }
 }
 
+/// One run's bar, updated about 200 times over the run (a redraw per step
+/// would cost more than a short run's steps).
+pub(crate) struct StepBar {
+    bar: Option<ProgressBar>,
+    every: u64,
+}
+
+impl StepBar {
+    /// The run has completed `step` steps.
+    pub(crate) fn at(&self, step: u64) {
+        if let Some(b) = &self.bar {
+            if step % self.every == 0 {
+                b.set_position(step);
+            }
+        }
+    }
+
+    /// The run is over: remove its bar.
+    pub(crate) fn finish(self) {
+        if let Some(b) = self.bar {
+            b.finish_and_clear();
+        }
+    }
+}
+
+/// Run `s` and keep every body's orientation at step 0 and every `every`
+/// steps: `q[k * bodies + i]` is body `i` at step `k * every`.
+pub(crate) fn sample_orientations(
+    s: &Scene,
+    every: u64,
+    progress: &Progress,
+    label: &str,
+) -> std::result::Result<Vec<DQuat>, Diagnosis> {
+    let bar = progress.step_bar(label, s.sim.steps());
+    let mut q: Vec<DQuat> = s.initial.iter().map(|b| b.rot.q).collect();
+    let r = integrate_observed(s, |w| {
+        if w.step % every == 0 {
+            q.extend(w.states.iter().map(|b| b.rot.q));
+        }
+        bar.at(w.step);
+    });
+    bar.finish();
+    progress.done(s.sim.steps() * s.bodies.len() as u64);
+    r.map(|_| q)
+}
+
+/// The file name of a scene's source, for figure titles.
+pub(crate) fn scene_name(scene: &Scene) -> &str {
+    scene.source.rsplit('/').next().unwrap_or(&scene.source)
+}
+
 /// Format an optional number for tables: `-` when missing or not finite.
-pub fn fmt_e(x: f64) -> String {
+pub(crate) fn fmt_e(x: f64) -> String {
     if x.is_finite() {
         format!("{x:.3e}")
     } else {
@@ -146,7 +202,7 @@ pub fn fmt_e(x: f64) -> String {
 }
 
 /// Shortest round-trip text of `x`, empty for NaN (CSV cells).
-pub fn cell(x: f64) -> String {
+pub(crate) fn cell(x: f64) -> String {
     if x.is_nan() {
         String::new()
     } else {
@@ -155,7 +211,7 @@ pub fn cell(x: f64) -> String {
 }
 
 /// Write a CSV file from a header and rows of text cells.
-pub fn write_csv(path: &Path, header: &[&str], rows: &[Vec<String>]) -> Result<()> {
+pub(crate) fn write_csv(path: &Path, header: &[&str], rows: &[Vec<String>]) -> Result<()> {
     let io = |e: csv::Error| Error::io(path, std::io::Error::other(e.to_string()));
     let mut w = csv::Writer::from_path(path).map_err(io)?;
     w.write_record(header).map_err(io)?;
@@ -163,9 +219,4 @@ pub fn write_csv(path: &Path, header: &[&str], rows: &[Vec<String>]) -> Result<(
         w.write_record(r).map_err(io)?;
     }
     w.flush().map_err(|e| Error::io(path, e))
-}
-
-/// A tick interval for per-step progress updates (about 200 updates per run).
-pub fn tick(steps: u64) -> u64 {
-    (steps / 200).max(1)
 }

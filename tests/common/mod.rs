@@ -31,16 +31,14 @@ pub fn final_state(scene: &Scene, kind: RotatorKind, dt: f64) -> BodyState {
     fibresim::run::integrate(scene, kind, dt).expect("run completes")[0]
 }
 
-/// Least-squares slope of log(err) against log(dt).
+/// Least-squares slope of log(err) against log(dt), by the library's
+/// [`fit_order`](fibresim::study::fit::fit_order). Every point must count:
+/// a zero or non-finite error fails the test instead of being skipped.
 pub fn fitted_order(dts: &[f64], errs: &[f64]) -> f64 {
-    let xs: Vec<f64> = dts.iter().map(|d| d.ln()).collect();
-    let ys: Vec<f64> = errs.iter().map(|e| e.ln()).collect();
-    let n = xs.len() as f64;
-    let mx = xs.iter().sum::<f64>() / n;
-    let my = ys.iter().sum::<f64>() / n;
-    let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
-    let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
-    sxy / sxx
+    let fit = fibresim::study::fit::fit_order(dts, errs)
+        .unwrap_or_else(|| panic!("no order fits dt {dts:?}, errors {errs:?}"));
+    assert_eq!(fit.points, dts.len(), "errors {errs:?}");
+    fit.order
 }
 
 /// Orientation error at the end time: geodesic angle to a reference state.
