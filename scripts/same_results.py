@@ -52,6 +52,13 @@ def jobs():
     return j
 
 
+def where(key, value):
+    """A scenario path relative to the checkout, so that two clones compare."""
+    if key == "scenario" and isinstance(value, str) and "scenarios/" in value:
+        return value[value.index("scenarios/"):]
+    return value
+
+
 def normalised(path):
     """File bytes with the machine-dependent parts removed."""
     name = os.path.basename(path)
@@ -61,7 +68,7 @@ def normalised(path):
 
         def strip(o):
             if isinstance(o, dict):
-                return {k: strip(v) for k, v in o.items() if k not in TIMING}
+                return {k: where(k, strip(v)) for k, v in o.items() if k not in TIMING}
             if isinstance(o, list):
                 return [strip(v) for v in o]
             return o

@@ -291,7 +291,7 @@ fn symmetric_drop_stays_symmetric() {
 /// each rotator, not the paper's Fig. 2 claim (0.2 % for all), which two of
 /// them fail (README, "Test cases 1 and 2"):
 /// * `euler`, `scalar`, `pcdm` take the contact torque of the configuration
-///   at the start of the step (SPEC §4), a local error ∝ δt in every step's
+///   at the start of the step (docs/physics.md §4), a local error ∝ δt in every step's
 ///   angular impulse, so the error left after a bounce is ∝ δt: doubling δt
 ///   doubles it (ratio 1.9–2.1; measured 2.00). PCDM's mid-step
 ///   re-evaluation rotates the same stale torque and halves the error

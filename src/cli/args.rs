@@ -70,10 +70,10 @@ pub struct StressArgs {
     #[arg(long, default_value = "0.25,0.5,1,2,4,8,16,32,64,128")]
     pub factors: String,
     /// A finished run is inaccurate above this energy (contact-free: also angular momentum) error, percent.
-    #[arg(long = "energy-tol", default_value_t = 1.0)]
+    #[arg(long = "energy-tol", default_value_t = crate::study::stress::ENERGY_TOL_PCT)]
     pub energy_tol: f64,
     /// A finished run is inaccurate when its final velocities and angular momenta are off the rk4 reference by more than this percent of the largest rim speed.
-    #[arg(long = "outcome-tol", default_value_t = 5.0)]
+    #[arg(long = "outcome-tol", default_value_t = crate::study::stress::OUTCOME_TOL_PCT)]
     pub outcome_tol: f64,
     /// Output folder.
     #[arg(long, default_value = "out/stress")]

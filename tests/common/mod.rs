@@ -46,7 +46,7 @@ pub fn angle_error(a: &BodyState, b: &BodyState) -> f64 {
     geodesic_angle(a.rot.q, b.rot.q)
 }
 
-/// Test case 1's fibre (SPEC §6): D = 0.01 m, L = 0.025 m, radius and half length.
+/// Test case 1's fibre (docs/physics.md §6): D = 0.01 m, L = 0.025 m, radius and half length.
 pub const R: f64 = 0.005;
 pub const H: f64 = 0.0125;
 
@@ -60,7 +60,7 @@ pub fn fib(centre: DVec3, axis: DVec3) -> FibreGeom {
     }
 }
 
-/// Test case 1's fibre material and shape, as scenario keys (SPEC §6).
+/// Test case 1's fibre material and shape, as scenario keys (docs/physics.md §6).
 pub const FIBRE: &str = r#"
 shape = "fibre"
 diameter = 0.01
