@@ -16,7 +16,7 @@ use super::scheme::Stage;
 use super::verlet;
 use crate::body::BodyState;
 use crate::energy::{error_pct, Ledger};
-use crate::scenario::build::Prescribed;
+use crate::scenario::Prescribed;
 use crate::stop::{Diagnosis, StopKind};
 use crate::torque::PrescribedTorque;
 use glam::DVec3;

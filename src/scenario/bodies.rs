@@ -1,0 +1,231 @@
+//! One `[[body]]` table into a body, its initial state and its prescribed
+//! torque; the scene's material table.
+
+use super::check::Ctx;
+use super::file::{BodySection, ScenarioFile, ShapeName};
+use crate::body::{Body, BodyState, Material, MaterialId, RotState, Shape};
+use crate::error::Result;
+use crate::torque::PrescribedTorque;
+use glam::{DQuat, DVec3};
+
+/// Bodies (any point of them) must move slower than this, m/s.
+pub const SPEED_OF_LIGHT: f64 = 299_792_458.0;
+
+/// Euclidean norm without overflow for huge components (1e300).
+fn norm(v: DVec3) -> f64 {
+    let s = v.abs().max_element();
+    if s > 0.0 && s.is_finite() {
+        s * (v / s).length()
+    } else {
+        s
+    }
+}
+
+/// Exact axis-aligned bounds of a body.
+pub fn aabb(shape: &Shape, st: &BodyState) -> (DVec3, DVec3) {
+    let half = match *shape {
+        Shape::Sphere { diameter } => DVec3::splat(0.5 * diameter),
+        Shape::Fibre { diameter, length } => {
+            let a = st.rot.q * DVec3::X;
+            let r = 0.5 * diameter;
+            let sin = (DVec3::ONE - a * a).max(DVec3::ZERO);
+            0.5 * length * a.abs() + r * DVec3::new(sin.x.sqrt(), sin.y.sqrt(), sin.z.sqrt())
+        }
+    };
+    (st.x - half, st.x + half)
+}
+
+pub(super) fn build_body(
+    cx: &Ctx,
+    raw: &ScenarioFile,
+    i: usize,
+    b: &BodySection,
+    needs_contacts: bool,
+    materials: &mut Materials,
+) -> Result<(Body, BodyState, Option<PrescribedTorque>)> {
+    let key = |k: &str| format!("body[{i}].{k}");
+    let diameter = cx.positive(&key("diameter"), b.diameter)?;
+    let shape = match (b.shape, b.length) {
+        (ShapeName::Fibre, Some(l)) => Shape::Fibre {
+            diameter,
+            length: cx.positive(&key("length"), l)?,
+        },
+        (ShapeName::Fibre, None) => {
+            return Err(cx.err(&key("length"), "a fibre needs `length` (m)"))
+        }
+        (ShapeName::Sphere, None) => Shape::Sphere { diameter },
+        (ShapeName::Sphere, Some(_)) => {
+            return Err(cx.err(
+                &key("length"),
+                "a sphere has no `length`; remove it or use shape = \"fibre\"",
+            ))
+        }
+    };
+    if needs_contacts && matches!(shape, Shape::Sphere { .. }) {
+        return Err(cx.err(
+            &key("shape"),
+            "spheres are supported only in contact-free scenes (one body, no [box]); use fibres",
+        ));
+    }
+
+    // Material: a named table or inline values, not both. Messages name
+    // where the value was given.
+    let mkey = |k: &str| match &b.material {
+        Some(m) => format!("material.{m}.{k}"),
+        None => key(k),
+    };
+    let (density, young, poisson) = match &b.material {
+        Some(m) => {
+            if b.density.is_some() || b.young.is_some() || b.poisson.is_some() {
+                return Err(cx.err(
+                    &key("material"),
+                    "give either `material` or inline density/young/poisson, not both",
+                ));
+            }
+            let mat = raw.material.get(m).ok_or_else(|| {
+                let known: Vec<&String> = raw.material.keys().collect();
+                cx.err(
+                    &key("material"),
+                    format!("unknown material `{m}`; defined: {known:?}"),
+                )
+            })?;
+            (mat.density, mat.young, mat.poisson)
+        }
+        None => (
+            b.density
+                .ok_or_else(|| cx.err(&key("density"), "give `density` (kg/m^3) or `material`"))?,
+            b.young,
+            b.poisson,
+        ),
+    };
+    let density = cx.positive(&mkey("density"), density)?;
+    let (young, poisson) = if needs_contacts {
+        let e = young.ok_or_else(|| {
+            cx.err(
+                &mkey("young"),
+                "bodies that can touch need Young's modulus `young` (Pa)",
+            )
+        })?;
+        let nu = poisson.ok_or_else(|| {
+            cx.err(
+                &mkey("poisson"),
+                "bodies that can touch need Poisson's ratio `poisson`",
+            )
+        })?;
+        (
+            cx.positive(&mkey("young"), e)?,
+            cx.poisson(&mkey("poisson"), nu)?,
+        )
+    } else {
+        (young.unwrap_or(f64::NAN), poisson.unwrap_or(f64::NAN))
+    };
+
+    let q = match (b.axis, b.quaternion) {
+        (Some(_), Some(_)) => {
+            return Err(cx.err(&key("axis"), "give either `axis` or `quaternion`, not both"))
+        }
+        (Some(a), None) => {
+            let a = cx.finite3(&key("axis"), a)?;
+            if a.length() < 1e-12 {
+                return Err(cx.err(&key("axis"), "the axis direction must be non-zero"));
+            }
+            DQuat::from_rotation_arc(DVec3::X, a.normalize())
+        }
+        (None, Some(c)) => {
+            let q = crate::math::quat_wxyz(c);
+            let n = q.length();
+            if !n.is_finite() || (n - 1.0).abs() > 1e-6 {
+                return Err(cx.err(
+                    &key("quaternion"),
+                    format!("must be a unit quaternion [w, x, y, z] (norm {n}); normalise it"),
+                ));
+            }
+            // Only input rounding (< 1e-6) is removed here.
+            q.normalize()
+        }
+        (None, None) => DQuat::IDENTITY,
+    };
+    let x = cx.finite3(&key("position"), b.position)?;
+    let v = cx.finite3(&key("velocity"), b.velocity)?;
+    let omega_w = cx.finite3(&key("angular_velocity"), b.angular_velocity)?;
+    // Newtonian mechanics: a point of the body at or above the speed of light
+    // is not physical (and its energy may overflow, defeating the dt advice).
+    let rim = norm(omega_w) * shape.bounding_radius();
+    for (k, speed, what) in [
+        ("velocity", norm(v), "speed"),
+        (
+            "angular_velocity",
+            rim,
+            "rim speed |omega| x bounding radius",
+        ),
+    ] {
+        if speed >= SPEED_OF_LIGHT {
+            return Err(cx.err(
+                &key(k),
+                format!("{what} {speed:e} m/s is not physical (at or above the speed of light, 3e8 m/s; fibresim is Newtonian); give a speed far below it"),
+            ));
+        }
+    }
+    let torque = match &b.torque {
+        Some(t) => {
+            let texts = [t[0].text(), t[1].text(), t[2].text()];
+            Some(
+                PrescribedTorque::parse(&texts)
+                    .map_err(|(c, msg)| cx.err(&key(&format!("torque[{c}]")), msg))?,
+            )
+        }
+        None => None,
+    };
+    let material = materials.intern(b.material.as_deref(), density, young, poisson);
+    let body = Body::new(shape, material, density);
+    let state = BodyState {
+        x,
+        v,
+        rot: RotState {
+            q,
+            omega_b: q.conjugate() * omega_w,
+        },
+    };
+    Ok((body, state, torque))
+}
+
+/// The scene's material table: named `[material.NAME]` tables in the order
+/// bodies first use them, and inline values, one entry per distinct set.
+#[derive(Default)]
+pub(super) struct Materials {
+    pub(super) table: Vec<Material>,
+}
+
+impl Materials {
+    pub(super) fn intern(
+        &mut self,
+        name: Option<&str>,
+        density: f64,
+        young: f64,
+        poisson: f64,
+    ) -> MaterialId {
+        let same = |m: &Material| match name {
+            Some(n) => m.name == n,
+            None => {
+                m.name.starts_with("inline-")
+                    && [m.density, m.young, m.poisson].map(f64::to_bits)
+                        == [density, young, poisson].map(f64::to_bits)
+            }
+        };
+        if let Some(k) = self.table.iter().position(same) {
+            return k as MaterialId;
+        }
+        let inline = self
+            .table
+            .iter()
+            .filter(|m| m.name.starts_with("inline-"))
+            .count();
+        self.table.push(Material {
+            name: name.map_or_else(|| format!("inline-{inline}"), str::to_string),
+            density,
+            young,
+            poisson,
+        });
+        (self.table.len() - 1) as MaterialId
+    }
+}
