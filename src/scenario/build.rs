@@ -165,14 +165,8 @@ impl Default for Guards {
     }
 }
 
-/// The six walls of an axis-aligned box, with their elastic constants.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Walls {
-    pub min: DVec3,
-    pub max: DVec3,
-    pub young: f64,
-    pub poisson: f64,
-}
+/// The six walls of an axis-aligned box (defined with the contacts).
+pub use crate::contact::Walls;
 
 /// A closed-form orientation the scene declares (see `file::ReferenceSection`).
 #[derive(Debug, Clone, PartialEq)]
@@ -462,18 +456,9 @@ fn norm(v: DVec3) -> f64 {
     }
 }
 
-/// Exact axis-aligned bounds of a body.
+/// Exact axis-aligned bounds of a body ([`crate::contact::aabb`]).
 pub fn aabb(shape: &Shape, st: &BodyState) -> (DVec3, DVec3) {
-    let half = match *shape {
-        Shape::Sphere { diameter } => DVec3::splat(0.5 * diameter),
-        Shape::Fibre { diameter, length } => {
-            let a = st.rot.q * DVec3::X;
-            let r = 0.5 * diameter;
-            let sin = (DVec3::ONE - a * a).max(DVec3::ZERO);
-            0.5 * length * a.abs() + r * DVec3::new(sin.x.sqrt(), sin.y.sqrt(), sin.z.sqrt())
-        }
-    };
-    (st.x - half, st.x + half)
+    crate::contact::aabb(shape, st.x, st.rot.q * DVec3::X)
 }
 
 fn build_body(
