@@ -1,7 +1,7 @@
 //! Contact energy audit: replay a run from a checkpoint and check every live
 //! contact's force and torque against central finite differences of its
 //! potential. This is how the end-on-end torque bug and the side–side/end
-//! regime switch (README, "Contacts") were found.
+//! regime switch were found (docs/contacts.md, "History").
 //!
 //! ```sh
 //! fibresim run scenarios/nine_fibres.toml --t-end 1.2036 --checkpoint-every 12036000 --out /tmp/a
@@ -11,7 +11,6 @@
 //! step from which every contact's pose is printed in full.
 
 use fibresim::body::Shape;
-use fibresim::contact::stage::box_walls;
 use fibresim::contact::*;
 use fibresim::integrate::step::World;
 use fibresim::output::Checkpoint;
@@ -85,12 +84,15 @@ fn main() {
         };
         FibreGeom {
             centre: w.states[i].x,
-            axis: w.states[i].rot.q * DVec3::X,
+            // The stage's axis, bit for bit.
+            axis: fibresim::math::body_x_axis(w.states[i].rot.q),
             radius: 0.5 * diameter,
             half_length: 0.5 * length,
         }
     };
     let walls = scene.walls.as_ref().map(box_walls).unwrap_or_default();
+    // The audit's own kernel calls (the world's stage keeps its own).
+    let counters = std::cell::Cell::new(KernelCounters::default());
     while w.step < scene.sim.steps() {
         w.step_kind(scene.sim.rotator()).expect("step");
         if w.step % every != 0 {
@@ -115,9 +117,12 @@ fn main() {
                     mj.young,
                     mj.poisson,
                 );
-                if let Some((u, worst, k)) =
-                    audit(&gi, &law, &|a, out| contact_fibre_fibre(a, &gj, out))
-                {
+                let kernel = |a: &FibreGeom, out: &mut Vec<ContactPoint>| {
+                    let mut k = counters.get();
+                    contact_fibre_fibre(a, &gj, out, &mut k);
+                    counters.set(k);
+                };
+                if let Some((u, worst, k)) = audit(&gi, &law, &kernel) {
                     let sin = gi.axis.cross(gj.axis).length();
                     println!("  {i}-{j}: {k} points, U {u:.3e} J, |sin| {sin:.4}, worst gradient mismatch {worst:.1e}");
                     if worst > DUMP_ABOVE || w.step >= dump_from {
@@ -146,12 +151,14 @@ fn main() {
             }
         }
     }
-    use fibresim::contact::fibre_fibre::{PARRY_CALLS, PARRY_REJECTS, PARRY_UNCONFIRMED};
-    use std::sync::atomic::Ordering::Relaxed;
-    println!(
-        "parry: {} calls, {} answers rejected, {} 'no contact' verdicts not confirmed",
-        PARRY_CALLS.load(Relaxed),
-        PARRY_REJECTS.load(Relaxed),
-        PARRY_UNCONFIRMED.load(Relaxed)
-    );
+    let stage = w.contacts.as_ref().map(|c| c.kernel_counters());
+    for (name, k) in [
+        ("run", stage.unwrap_or_default()),
+        ("audit", counters.get()),
+    ] {
+        println!(
+            "parry ({name}): {} calls, {} answers rejected, {} 'no contact' verdicts not confirmed",
+            k.parry_calls, k.parry_rejects, k.parry_unconfirmed
+        );
+    }
 }

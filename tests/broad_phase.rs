@@ -6,8 +6,9 @@
 mod common;
 use common::scene_str;
 use fibresim::body::{BodyState, Shape};
-use fibresim::contact::stage::box_walls;
-use fibresim::contact::{contact_fibre_fibre, contact_fibre_wall, FibreGeom, HertzLaw};
+use fibresim::contact::{
+    box_walls, contact_fibre_fibre, contact_fibre_wall, FibreGeom, HertzLaw, KernelCounters,
+};
 use fibresim::integrate::rotate::Pcdm;
 use fibresim::integrate::step::World;
 use fibresim::scenario::Scene;
@@ -15,7 +16,12 @@ use glam::DVec3;
 
 /// Forces, torques and elastic energy from every wall of every body, then
 /// every pair `i < j`: the order the stage sums in, so the bits must agree.
-fn full_search(scene: &Scene, states: &[BodyState]) -> (Vec<DVec3>, Vec<DVec3>, f64) {
+/// The kernels' counts are added to `counters`.
+fn full_search(
+    scene: &Scene,
+    states: &[BodyState],
+    counters: &mut KernelCounters,
+) -> (Vec<DVec3>, Vec<DVec3>, f64) {
     let n = states.len();
     let (mut force, mut torque, mut elastic) = (vec![DVec3::ZERO; n], vec![DVec3::ZERO; n], 0.0);
     let geom = |i: usize| {
@@ -62,7 +68,7 @@ fn full_search(scene: &Scene, states: &[BodyState]) -> (Vec<DVec3>, Vec<DVec3>, 
     for i in 0..n {
         for j in i + 1..n {
             pts.clear();
-            contact_fibre_fibre(&geom(i), &geom(j), &mut pts);
+            contact_fibre_fibre(&geom(i), &geom(j), &mut pts, counters);
             let (a, b) = (scene.material(i), scene.material(j));
             let law = HertzLaw::fibre_fibre(
                 2.0 * geom(i).radius,
@@ -111,9 +117,14 @@ fn check(n: usize) {
     let scene = dense_scene(n);
     let mut w = World::new(&scene);
     let (mut touching_steps, mut rebuilds_seen) = (0u64, 0u64);
+    // The stage's counts since it was built (its first computation is in
+    // World::new): a pair the list leaves out has no capsule overlap and
+    // never reaches parry, so both searches ask parry the same questions.
+    let mut counters = KernelCounters::default();
+    full_search(&scene, &w.states, &mut counters);
     while w.step < scene.sim.steps() {
         w.step::<Pcdm>().expect("the dense scene stays stable");
-        let (f, t, e) = full_search(&scene, &w.states);
+        let (f, t, e) = full_search(&scene, &w.states, &mut counters);
         assert_eq!(f, w.force, "forces at step {}", w.step);
         assert_eq!(t, w.torque, "torques at step {}", w.step);
         assert_eq!(
@@ -123,13 +134,21 @@ fn check(n: usize) {
             w.step
         );
         touching_steps += u64::from(w.contact_stats().unwrap().touching > 0);
-        rebuilds_seen = w.contacts.as_ref().unwrap().neighbour_builds();
+        let stage = w.contacts.as_ref().unwrap();
+        rebuilds_seen = stage.neighbour_builds();
+        assert_eq!(
+            stage.kernel_counters(),
+            counters,
+            "counters at step {}",
+            w.step
+        );
     }
     // The scene must exercise the list: contacts most of the time, and far
     // fewer builds than steps.
     println!(
-        "{n} fibres: {touching_steps} of {} steps with contacts, {rebuilds_seen} list builds",
-        scene.sim.steps()
+        "{n} fibres: {touching_steps} of {} steps with contacts, {rebuilds_seen} list builds, {} parry calls",
+        scene.sim.steps(),
+        counters.parry_calls
     );
     assert!(touching_steps > scene.sim.steps() / 2, "{touching_steps}");
     assert!(

@@ -11,7 +11,7 @@
 
 mod common;
 use common::*;
-use fibresim::contact::{contact_fibre_fibre, ContactPoint, FibreGeom, HertzLaw};
+use fibresim::contact::{FibreGeom, HertzLaw};
 use fibresim::integrate::step::World;
 
 use glam::{DQuat, DVec3};
@@ -146,7 +146,7 @@ fn replay(starts: &[Start; 2], steps: u64) -> Replay {
         r.worst_step = r.worst_step.max((e - prev).abs());
         prev = e;
         let (a, b) = (geom(&w, 0), geom(&w, 1));
-        if contacts(&a, &b).len() == 2 {
+        if ff_contacts(&a, &b).len() == 2 {
             r.band.push(r.poses.len());
         }
         r.poses.push((a, b));
@@ -164,12 +164,6 @@ struct Replay {
     band: Vec<usize>,
     /// The pair after each step.
     poses: Vec<(FibreGeom, FibreGeom)>,
-}
-
-fn contacts(a: &FibreGeom, b: &FibreGeom) -> Vec<ContactPoint> {
-    let mut out = vec![];
-    contact_fibre_fibre(a, b, &mut out);
-    out
 }
 
 #[test]
@@ -193,25 +187,11 @@ fn tie_replays_conserve_energy_through_the_band() {
     }
 }
 
-/// Force and torque on A (about its centre) and the potential.
-fn wrench(law: &HertzLaw, c: &[ContactPoint], x: DVec3) -> (DVec3, DVec3, f64) {
-    c.iter()
-        .fold((DVec3::ZERO, DVec3::ZERO, 0.0), |(fo, to, u), p| {
-            let f = p.weight * law.force(p.overlap) * p.normal;
-            let couple = -law.energy(p.overlap) * p.weight_grad;
-            (
-                fo + f,
-                to + (p.point - x).cross(f) + couple,
-                u + p.weight * law.energy(p.overlap),
-            )
-        })
-}
-
 /// Worst relative mismatch of (F, τ) on A against central differences of
 /// U (steps `hx`, `hx/L`), scaled by |F| and |F|·L.
 fn gradient_error(law: &HertzLaw, a: &FibreGeom, b: &FibreGeom, hx: f64) -> f64 {
-    let (force, torque, _) = wrench(law, &contacts(a, b), a.centre);
-    let u = |g: &FibreGeom| wrench(law, &contacts(g, b), g.centre).2;
+    let (force, torque, _) = hertz_wrench(law, &ff_contacts(a, b), a.centre);
+    let u = |g: &FibreGeom| hertz_wrench(law, &ff_contacts(g, b), g.centre).2;
     let (fscale, lscale) = (force.length(), a.half_length + a.radius);
     let hr = hx / lscale;
     let mut worst = 0.0f64;
@@ -258,8 +238,8 @@ fn tie_families_are_c1_with_exact_gradient() {
         let mut prev: Option<DVec3> = None;
         for k in 0..=n {
             let (a, b) = at(k as f64 / n as f64);
-            let c = contacts(&a, &b);
-            let (f, _, _) = wrench(&law, &c, a.centre);
+            let c = ff_contacts(&a, &b);
+            let (f, _, _) = hertz_wrench(&law, &c, a.centre);
             fmax = fmax.max(f.length());
             if let Some(p) = prev {
                 worst_df = worst_df.max((f - p).length());

@@ -6,25 +6,32 @@
 //! floating-point summation order) is deterministic.
 
 use super::{FibreGeom, Wall};
+use crate::body::Shape;
 use glam::{DQuat, DVec3};
 
 /// Up to this many boxes the O(N²) loop is cheaper than sorting.
 pub const BRUTE_FORCE_MAX: usize = 32;
 
-/// Exact AABB of a flat-ended cylinder: the two end discs' extents.
-/// Half-extent along world axis k: `h|a_k| + r √(1 − a_k²)`.
+/// Exact axis-aligned bounds of a body of shape `shape` centred at `centre`
+/// with unit symmetry axis `axis` (ignored for a sphere). A flat-ended
+/// cylinder's box is that of its two end discs: half-extent along world
+/// axis k `h|a_k| + r √(1 − a_k²)`. (The neighbour list boxes the capsule
+/// of the axis instead.)
 #[inline]
-pub fn fibre_aabb(f: &FibreGeom) -> (DVec3, DVec3) {
-    let a = f.axis;
-    let disc = f.radius
-        * DVec3::from_array(
-            (DVec3::ONE - a * a)
-                .max(DVec3::ZERO)
-                .to_array()
-                .map(f64::sqrt),
-        );
-    let half = f.half_length * a.abs() + disc;
-    (f.centre - half, f.centre + half)
+pub fn aabb(shape: &Shape, centre: DVec3, axis: DVec3) -> (DVec3, DVec3) {
+    let half = match *shape {
+        Shape::Sphere { diameter } => DVec3::splat(0.5 * diameter),
+        Shape::Fibre { diameter, length } => {
+            let disc = DVec3::from_array(
+                (DVec3::ONE - axis * axis)
+                    .max(DVec3::ZERO)
+                    .to_array()
+                    .map(f64::sqrt),
+            );
+            0.5 * length * axis.abs() + 0.5 * diameter * disc
+        }
+    };
+    (centre - half, centre + half)
 }
 
 #[inline]
@@ -33,8 +40,8 @@ fn overlaps(a: &(DVec3, DVec3), b: &(DVec3, DVec3)) -> bool {
 }
 
 /// All pairs `(i, j)`, `i < j`, whose closed boxes overlap, sorted; `out`
-/// is cleared first. Allocates a sort buffer for large `n`: use
-/// [`candidate_pairs_with`] to reuse one across steps.
+/// is cleared first. Allocates a sort buffer for large `n` (the neighbour
+/// list reuses one across steps).
 pub fn candidate_pairs(aabbs: &[(DVec3, DVec3)], out: &mut Vec<(u32, u32)>) {
     let mut order = Vec::new();
     candidate_pairs_with(aabbs, &mut order, out);
@@ -42,7 +49,7 @@ pub fn candidate_pairs(aabbs: &[(DVec3, DVec3)], out: &mut Vec<(u32, u32)>) {
 
 /// [`candidate_pairs`] with a caller-owned sort buffer (no allocation once
 /// the buffers have grown).
-pub fn candidate_pairs_with(
+pub(crate) fn candidate_pairs_with(
     aabbs: &[(DVec3, DVec3)],
     order: &mut Vec<u32>,
     out: &mut Vec<(u32, u32)>,
@@ -113,29 +120,29 @@ pub fn candidate_pairs_with(
 /// The end points are not formed every step: an end point `x ± h R(q) eₓ`
 /// moves by at most `|Δx| + 2h ‖Δq‖`, since `‖R(q) − R(p)‖ = 2 sin(θ/2) ≤
 /// 4 sin(θ/4) = 2 ‖q − p‖` for unit quaternions (θ the angle between them;
-/// for the other sign of `p` the bound only grows). With `(a + b)² ≤ 2 (a² + b²)` the test
-/// needs no square root. Between builds only the fibres in a candidate
+/// for the other sign of `p` the bound only grows). With
+/// `(a + b)² ≤ 2 (a² + b²)` the test needs no square root. Between builds only the fibres in a candidate
 /// ([`Self::active`]) need their geometry.
 #[derive(Debug, Clone)]
-pub struct NeighbourList {
+pub(crate) struct NeighbourList {
     half_skin: f64,
     /// Centre, orientation and half length of each fibre at the last build.
     built: Vec<(DVec3, DQuat, f64)>,
     /// `(body, wall)` candidates, body-major, walls in their order.
-    pub walls: Vec<(u32, u32)>,
+    pub(crate) walls: Vec<(u32, u32)>,
     /// `(i, j)` candidates, `i < j`, sorted.
-    pub pairs: Vec<(u32, u32)>,
+    pub(crate) pairs: Vec<(u32, u32)>,
     /// Bodies in any candidate, ascending.
-    pub active: Vec<u32>,
+    pub(crate) active: Vec<u32>,
     boxes: Vec<(DVec3, DVec3)>,
     order: Vec<u32>,
     /// Number of builds so far (diagnostics and tests).
-    pub builds: u64,
+    pub(crate) builds: u64,
 }
 
 impl NeighbourList {
     /// A list with skin width `skin` (m).
-    pub fn new(skin: f64) -> Self {
+    pub(crate) fn new(skin: f64) -> Self {
         NeighbourList {
             half_skin: 0.5 * skin,
             built: vec![],
@@ -151,7 +158,7 @@ impl NeighbourList {
     /// Whether the list still holds every possible contact of the bodies at
     /// these poses (centre, orientation).
     #[inline]
-    pub fn still_valid(&self, poses: impl ExactSizeIterator<Item = (DVec3, DQuat)>) -> bool {
+    pub(crate) fn still_valid(&self, poses: impl ExactSizeIterator<Item = (DVec3, DQuat)>) -> bool {
         let limit2 = 0.5 * self.half_skin * self.half_skin;
         self.built.len() == poses.len()
             && poses.zip(&self.built).all(|((x, q), &(x0, q0, h))| {
@@ -162,7 +169,9 @@ impl NeighbourList {
     }
 
     /// Build the list for the fibres `geoms` at orientations `rotations`.
-    pub fn build(
+    /// (Once per ~2000 steps: kept out of the stage's per-step code.)
+    #[inline(never)]
+    pub(crate) fn build(
         &mut self,
         geoms: &[FibreGeom],
         rotations: impl Iterator<Item = DQuat>,

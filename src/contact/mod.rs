@@ -1,43 +1,34 @@
-//! Contact geometry for rigid flat-ended cylindrical fibres (fibre–wall,
-//! fibre–fibre) and the Hertz force law they feed.
+//! Contacts of rigid flat-ended cylindrical fibres (with each other and with
+//! the walls of a box) and the Hertz force law they feed (SPEC §3).
 //!
 //! Every kernel appends [`ContactPoint`]s; the force on body A is
 //! `weight * F_hertz(overlap) * normal` acting at `point` (on B the opposite),
-//! and the stored energy is `weight * U_hertz(overlap)`.
+//! and the stored energy is `weight * U_hertz(overlap)`. Every model is a
+//! potential whose exact gradient is the returned force and torque (checked
+//! by finite differences in the tests), except on documented measure-zero
+//! switching sets.
 //!
-//! Load sharing (each contact is its own Hertz point, R* of SPEC §3 for all):
-//! * fibre–wall: one contact per end face, depth of its deepest rim point
-//!   with the rim term smoothed within 0.14° of upright, see [`fibre_wall`].
-//!   Standing on an end: one Hertz point at the face centre, the resultant
-//!   of a uniform face load (not a flat-punch law); tilted: the exact corner
-//!   point; lying flat: two points, one per end.
-//! * fibre–fibre side–side: potential `U(δ_main) + U(min(δ_lo, δ_hi))`,
-//!   one point at a crossing, two points at the ends of the overlap for a
-//!   parallel pair, see [`fibre_fibre`]. The second point fades out (and
-//!   the end-involved model fades in when the closest points are not
-//!   interior) over |sin| ∈ [0.02, 0.035] with an orientation-dependent
-//!   weight; its gradient is the couple carried in
-//!   [`ContactPoint::weight_grad`].
-//! * fibre–fibre with an end: one point, the penetration depth of the two
-//!   fibres with domed end faces (sag 2.5 µm), so a face on a side, rim or
-//!   face has a smooth lever arm; where two local minima of that depth tie
-//!   (two escape directions, within 10 µm), two points whose weights are the
-//!   derivatives of a C² smooth minimum (they sum to 1).
-//!
-//! Every model is a potential whose exact gradient is the returned
-//! force/torque (checked by finite differences in the tests), except on
-//! documented measure-zero switching sets.
+//! The pieces: [`dispatch`] maps a shape pair to its kernel
+//! ([`fibre_wall`], [`fibre_fibre`]); `laws.rs` builds each Hertz law
+//! ([`hertz`]) once per pair of contact kinds; [`broad`] keeps the
+//! candidate pairs; [`stage`] applies the forces. Models, limits and their
+//! history: docs/contacts.md.
 
 pub mod broad;
+pub mod dispatch;
 pub mod fibre_fibre;
 pub mod fibre_wall;
 pub mod hertz;
+mod laws;
 pub mod stage;
+pub mod walls;
 
-pub use broad::{candidate_pairs, candidate_pairs_with, fibre_aabb};
+pub use broad::{aabb, candidate_pairs};
+pub use dispatch::{contacts, Collider};
 pub use fibre_fibre::contact_fibre_fibre;
 pub use fibre_wall::contact_fibre_wall;
 pub use hertz::HertzLaw;
+pub use walls::{box_walls, Wall, Walls};
 
 use glam::DVec3;
 
@@ -52,16 +43,6 @@ pub struct FibreGeom {
     pub radius: f64,
     /// L/2.
     pub half_length: f64,
-}
-
-/// Half-space wall of an axis-aligned box: plane `normal·x = offset`, the
-/// box interior is `normal·x >= offset`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Wall {
-    /// Unit normal pointing into the box.
-    pub normal: DVec3,
-    /// Plane offset.
-    pub offset: f64,
 }
 
 /// One Hertz contact: force on A is `weight * F(overlap) * normal` at `point`,
@@ -93,4 +74,20 @@ pub struct ContactPoint {
     /// Gradient of `weight` with respect to a rotation of A (rotation
     /// vector, 1/rad); with respect to a rotation of B it is the negative.
     pub weight_grad: DVec3,
+}
+
+/// Diagnostic counts of the kernels, added to by every call they are passed
+/// to. Each caller owns its counters (the stage keeps one set for its whole
+/// life), so concurrent callers never see each other's counts.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct KernelCounters {
+    /// parry contact queries (end-involved fibre–fibre pairs that no cheap
+    /// separating axis settled).
+    pub parry_calls: u64,
+    /// parry answers rejected by the sanity checks (the depth is recomputed
+    /// either way; parry's normal, if finite, still seeds the search).
+    pub parry_rejects: u64,
+    /// parry "no contact" verdicts that no separating axis confirmed (parry
+    /// is still followed; zero in the tests and in test case 2).
+    pub parry_unconfirmed: u64,
 }

@@ -2,14 +2,17 @@
 //! parameters → force law). Built only when the scene can have contacts.
 //!
 //! Per step: fibre poses → broad phase (a neighbour list, rebuilt when bodies
-//! have moved) → kernels → Hertz force per contact point → force `w F(δ) n` at
-//! `p` and torque `(p − x) × F` on each body (the opposite on body B).
-//! Deterministic: fixed loop order, sorted pairs.
+//! have moved) → kernels by shape pair ([`dispatch`](super::dispatch)) →
+//! Hertz force per contact point (laws tabled at construction) → force
+//! `w F(δ) n` at `p` and torque `(p − x) × F` on each body (the opposite on
+//! body B). Deterministic: fixed loop order, sorted pairs.
 
 use super::broad::NeighbourList;
-use super::{contact_fibre_fibre, contact_fibre_wall, ContactPoint, FibreGeom, HertzLaw, Wall};
+use super::laws::LawTable;
+use super::{
+    box_walls, contacts, Collider, ContactPoint, FibreGeom, HertzLaw, KernelCounters, Wall, Walls,
+};
 use crate::body::{Body, BodyState, Material, Shape};
-use crate::scenario::Walls;
 use glam::DVec3;
 
 /// What the last force computation saw.
@@ -17,45 +20,33 @@ use glam::DVec3;
 pub struct ContactStats {
     /// Touching pairs (body–body or body–wall).
     pub touching: usize,
-    /// Largest overlap over the fibre diameter, δ/D, and the body it is on.
+    /// Largest overlap over the fibre diameter, δ/D.
     pub max_overlap_ratio: f64,
+    /// The body that largest overlap ratio is on.
     pub max_overlap_body: usize,
     /// Elastic energy of the live contacts, J.
     pub elastic: f64,
 }
 
+/// The contact force stage of a scene: walls, Hertz laws, neighbour list
+/// and the buffers of the kernels, kept between steps.
 #[derive(Debug, Clone)]
 pub struct ContactStage {
-    /// The six walls, with each body's Hertz law against them.
+    /// The six walls (none without a box).
     walls: Vec<Wall>,
-    wall_law: Vec<HertzLaw>,
+    laws: LawTable,
     geoms: Vec<FibreGeom>,
     neighbours: NeighbourList,
     points: Vec<ContactPoint>,
+    counters: KernelCounters,
+    /// What the last [`ContactStage::compute`] saw.
     pub stats: ContactStats,
 }
 
 /// Neighbour-list skin as a fraction of the thinnest fibre's diameter. Wider
 /// means fewer rebuilds and more candidates to reject; at 0.2 D test case 2
 /// (fibres at ≤ 5 m/s, δt = 1e-7 s) rebuilds once per ~1500 steps.
-pub const SKIN_PER_DIAMETER: f64 = 0.2;
-
-/// The six inward-facing half-spaces of an axis-aligned box.
-pub fn box_walls(w: &Walls) -> Vec<Wall> {
-    let mut v = Vec::with_capacity(6);
-    for k in 0..3 {
-        let e = DVec3::AXES[k];
-        v.push(Wall {
-            normal: e,
-            offset: w.min[k],
-        });
-        v.push(Wall {
-            normal: -e,
-            offset: -w.max[k],
-        });
-    }
-    v
-}
+pub(crate) const SKIN_PER_DIAMETER: f64 = 0.2;
 
 fn geom(body: &Body, s: &BodyState) -> FibreGeom {
     let Shape::Fibre { diameter, length } = body.shape else {
@@ -70,36 +61,20 @@ fn geom(body: &Body, s: &BodyState) -> FibreGeom {
 }
 
 impl ContactStage {
+    /// The stage of `bodies` (made of `materials`) in the box `walls`, if
+    /// any: the Hertz laws of every pair of contact kinds are built here.
     pub fn new(bodies: &[Body], materials: &[Material], walls: Option<&Walls>) -> Self {
-        let (walls, wall_law) = match walls {
-            Some(w) => (
-                box_walls(w),
-                bodies
-                    .iter()
-                    .map(|b| {
-                        let m = &materials[b.material as usize];
-                        HertzLaw::fibre_wall(
-                            b.shape.diameter(),
-                            m.young,
-                            m.poisson,
-                            w.young,
-                            w.poisson,
-                        )
-                    })
-                    .collect(),
-            ),
-            None => (vec![], vec![]),
-        };
         let thinnest = bodies
             .iter()
             .map(|b| b.shape.diameter())
             .fold(f64::INFINITY, f64::min);
         ContactStage {
-            walls,
-            wall_law,
+            walls: walls.map(box_walls).unwrap_or_default(),
+            laws: LawTable::new(bodies, materials, walls),
             geoms: Vec::with_capacity(bodies.len()),
             neighbours: NeighbourList::new(SKIN_PER_DIAMETER * thinnest),
             points: vec![],
+            counters: KernelCounters::default(),
             stats: ContactStats::default(),
         }
     }
@@ -109,12 +84,17 @@ impl ContactStage {
         self.neighbours.builds
     }
 
+    /// The kernels' diagnostic counts, summed over every computation so far.
+    pub fn kernel_counters(&self) -> KernelCounters {
+        self.counters
+    }
+
     /// Contact forces and torques (world) at `states`, written into `force` and
-    /// `torque` (overwritten).
+    /// `torque` (overwritten), with the laws of the table built by
+    /// [`ContactStage::new`].
     pub fn compute(
         &mut self,
         bodies: &[Body],
-        materials: &[Material],
         states: &[BodyState],
         force: &mut [DVec3],
         torque: &mut [DVec3],
@@ -146,10 +126,15 @@ impl ContactStage {
             let i = i as usize;
             let g = &self.geoms[i];
             self.points.clear();
-            contact_fibre_wall(g, &self.walls[k as usize], &mut self.points);
+            contacts(
+                Collider::Fibre(g),
+                Collider::Wall(&self.walls[k as usize]),
+                &mut self.points,
+                &mut self.counters,
+            );
             apply(
                 &self.points,
-                &self.wall_law[i],
+                self.laws.fibre_wall(i),
                 (g, i),
                 None,
                 force,
@@ -162,26 +147,18 @@ impl ContactStage {
             let (a, b) = (a as usize, b as usize);
             let (ga, gb) = (&self.geoms[a], &self.geoms[b]);
             self.points.clear();
-            contact_fibre_fibre(ga, gb, &mut self.points);
+            contacts(
+                Collider::Fibre(ga),
+                Collider::Fibre(gb),
+                &mut self.points,
+                &mut self.counters,
+            );
             if self.points.is_empty() {
                 continue;
             }
-            let (ba, bb) = (&bodies[a], &bodies[b]);
-            let (ma, mb) = (
-                &materials[ba.material as usize],
-                &materials[bb.material as usize],
-            );
-            let law = HertzLaw::fibre_fibre(
-                ba.shape.diameter(),
-                ma.young,
-                ma.poisson,
-                bb.shape.diameter(),
-                mb.young,
-                mb.poisson,
-            );
             apply(
                 &self.points,
-                &law,
+                &self.laws.fibre_fibre(a, b),
                 (ga, a),
                 Some((gb, b)),
                 force,
@@ -237,32 +214,33 @@ impl ContactStats {
 }
 
 /// The first overlap found in a configuration: `(body, other body or None for a
-/// wall, overlap)`. Used to reject scenes whose bodies overlap at the start.
-pub fn first_overlap(
+/// wall, overlap)`, walls first, through the same kernels as the stage. Used
+/// to reject scenes whose bodies overlap at the start.
+pub(crate) fn first_overlap(
     bodies: &[Body],
     states: &[BodyState],
-    _materials: &[Material],
     walls: Option<&Walls>,
 ) -> Option<(usize, Option<usize>, f64)> {
     let geoms: Vec<FibreGeom> = bodies.iter().zip(states).map(|(b, s)| geom(b, s)).collect();
+    let walls = walls.map(box_walls).unwrap_or_default();
     let mut pts = vec![];
-    if let Some(w) = walls {
-        for (i, g) in geoms.iter().enumerate() {
-            for wall in box_walls(w) {
-                pts.clear();
-                contact_fibre_wall(g, &wall, &mut pts);
-                if let Some(c) = pts.first() {
-                    return Some((i, None, c.overlap));
-                }
+    let mut counters = KernelCounters::default();
+    let mut first = |a: Collider, b: Collider| {
+        pts.clear();
+        contacts(a, b, &mut pts, &mut counters);
+        pts.first().map(|c| c.overlap)
+    };
+    for (i, g) in geoms.iter().enumerate() {
+        for wall in &walls {
+            if let Some(overlap) = first(Collider::Fibre(g), Collider::Wall(wall)) {
+                return Some((i, None, overlap));
             }
         }
     }
     for i in 0..geoms.len() {
         for j in i + 1..geoms.len() {
-            pts.clear();
-            contact_fibre_fibre(&geoms[i], &geoms[j], &mut pts);
-            if let Some(c) = pts.first() {
-                return Some((i, Some(j), c.overlap));
+            if let Some(overlap) = first(Collider::Fibre(&geoms[i]), Collider::Fibre(&geoms[j])) {
+                return Some((i, Some(j), overlap));
             }
         }
     }

@@ -113,7 +113,6 @@ impl<'s> World<'s> {
         if let Some(c) = &mut self.contacts {
             c.compute(
                 &self.scene.bodies,
-                &self.scene.materials,
                 &self.states,
                 &mut self.force,
                 &mut self.torque,

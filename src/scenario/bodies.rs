@@ -21,18 +21,9 @@ fn norm(v: DVec3) -> f64 {
     }
 }
 
-/// Exact axis-aligned bounds of a body.
+/// Exact axis-aligned bounds of a body ([`crate::contact::aabb`]).
 pub fn aabb(shape: &Shape, st: &BodyState) -> (DVec3, DVec3) {
-    let half = match *shape {
-        Shape::Sphere { diameter } => DVec3::splat(0.5 * diameter),
-        Shape::Fibre { diameter, length } => {
-            let a = st.rot.q * DVec3::X;
-            let r = 0.5 * diameter;
-            let sin = (DVec3::ONE - a * a).max(DVec3::ZERO);
-            0.5 * length * a.abs() + r * DVec3::new(sin.x.sqrt(), sin.y.sqrt(), sin.z.sqrt())
-        }
-    };
-    (st.x - half, st.x + half)
+    crate::contact::aabb(shape, st.x, st.rot.q * DVec3::X)
 }
 
 pub(super) fn build_body(

@@ -118,12 +118,9 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
     }
 
     if needs_contacts {
-        if let Some((i, other, overlap)) = crate::contact::stage::first_overlap(
-            &bodies,
-            &initial,
-            &materials.table,
-            walls.as_ref(),
-        ) {
+        if let Some((i, other, overlap)) =
+            crate::contact::stage::first_overlap(&bodies, &initial, walls.as_ref())
+        {
             let with = match other {
                 Some(j) => format!("body[{j}] `{}`", names[j]),
                 None => "a wall".to_string(),

@@ -6,14 +6,8 @@ use crate::body::{Body, BodyState, Material};
 use crate::torque::PrescribedTorque;
 use glam::DVec3;
 
-/// The six walls of an axis-aligned box, with their elastic constants.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Walls {
-    pub min: DVec3,
-    pub max: DVec3,
-    pub young: f64,
-    pub poisson: f64,
-}
+/// The six walls of an axis-aligned box (defined with the contacts).
+pub use crate::contact::Walls;
 
 /// A prescribed world torque on one body.
 #[derive(Debug, Clone)]

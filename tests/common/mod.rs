@@ -90,3 +90,42 @@ impl Rng {
         DVec3::new(s * phi.cos(), s * phi.sin(), z)
     }
 }
+
+/// The fibre–fibre kernel's contacts of `a` with `b`, with the kernel's
+/// counts for this one call (its own counters: no other test can add to them).
+pub fn ff_contacts_counted(
+    a: &FibreGeom,
+    b: &FibreGeom,
+) -> (
+    Vec<fibresim::contact::ContactPoint>,
+    fibresim::contact::KernelCounters,
+) {
+    let (mut out, mut counters) = (vec![], fibresim::contact::KernelCounters::default());
+    fibresim::contact::contact_fibre_fibre(a, b, &mut out, &mut counters);
+    (out, counters)
+}
+
+/// The fibre–fibre kernel's contacts of `a` with `b`.
+pub fn ff_contacts(a: &FibreGeom, b: &FibreGeom) -> Vec<fibresim::contact::ContactPoint> {
+    ff_contacts_counted(a, b).0
+}
+
+/// Force and torque (about `x`) on body A of the contact points `c` under
+/// `law`, as the contact stage applies them (with the couple `−U·weight_grad`
+/// of orientation-dependent weights), and their potential `Σ w U(δ)`.
+pub fn hertz_wrench(
+    law: &fibresim::contact::HertzLaw,
+    c: &[fibresim::contact::ContactPoint],
+    x: DVec3,
+) -> (DVec3, DVec3, f64) {
+    c.iter()
+        .fold((DVec3::ZERO, DVec3::ZERO, 0.0), |(fo, to, u), p| {
+            let f = p.weight * law.force(p.overlap) * p.normal;
+            let couple = -law.energy(p.overlap) * p.weight_grad;
+            (
+                fo + f,
+                to + (p.point - x).cross(f) + couple,
+                u + p.weight * law.energy(p.overlap),
+            )
+        })
+}

@@ -1,0 +1,184 @@
+//! Fibre–fibre contact of rigid flat-ended cylinders: the regime dispatch.
+//!
+//! For the end-involved regimes each end face is a very shallow spherical
+//! cap through its rim ([`END_FACE_DOME_SIN`], sag 2.5 µm for r = 5 mm), so
+//! the body stays convex and its depth is a true penetration depth. After
+//! the capsule bound (`r_A + r_B − d_seg ≤ 0`: no contact), in this order:
+//! 1. **Near-coaxial end to end** (`|a×b| <` [`COAXIAL_SIN`], A's facing
+//!    face centre over B's face): the penetration depth seeded with the
+//!    face normal, without parry (parry is wrong for exactly coaxial pairs).
+//! 2. **Side–side** (closest points of the axis segments interior to both,
+//!    or `|a×b| <` [`PARALLEL_SIN`] with overlapping axial projections):
+//!    analytic (`side_side.rs`), blended with regime 3 over
+//!    `|a×b| ∈ [`[`PARALLEL_BLEND_SIN`]`, `[`PARALLEL_SIN`]`]` by a weight
+//!    whose gradient is a pure couple ([`ContactPoint::weight_grad`]).
+//! 3. **End involved** (T-junction, L corner, rim on rim): the penetration
+//!    depth of the domed cylinders (`penetration.rs`) seeded by parry's
+//!    checked normal (`parry_check.rs`), tied minima blended (`blend.rs`).
+//!
+//! Forces and torques are the exact gradient of the potential except on
+//! measure-zero switching sets. Models, limits and the history behind
+//! them: docs/contacts.md, "Fibre–fibre".
+
+mod blend;
+mod parry_check;
+mod penetration;
+mod segment;
+mod side_side;
+mod support;
+
+pub use blend::END_TIE_BAND;
+pub use segment::segment_closest_params;
+pub use support::{dome_sag, domed_projection_overlap, projection_overlap, END_FACE_DOME_SIN};
+
+use super::{ContactPoint, FibreGeom, KernelCounters};
+use blend::Blend;
+use glam::DVec3;
+use parry_check::{cheap_axis_separates, confirm_separated, parry_contact};
+use penetration::penetration_smoothed;
+use segment::axial_overlap;
+use side_side::{closest_point_contact, side_side};
+
+/// Below this |sin| of the inter-axis angle a pair counts as parallel for the
+/// line-contact treatment (≈ 2°).
+pub const PARALLEL_SIN: f64 = 0.035;
+/// Lower edge of the parallel blend band: the side–side-only terms (the
+/// second contact, and the side–side main contact where regime 3 takes over)
+/// have weight `w(|a×b|)`, 1 up to this |sin|, 0 from [`PARALLEL_SIN`] on,
+/// C¹ (smoothstep) in between; the exact-depth contact of regime 3 gets
+/// `1 − w` there. The weight's gradient is a pure couple
+/// ([`ContactPoint::weight_grad`]), so forces stay the exact gradient and
+/// the potential is continuous across `PARALLEL_SIN` (≈ 1.15°–2°).
+pub const PARALLEL_BLEND_SIN: f64 = 0.02;
+/// Below this |sin| an end-to-end pair counts as coaxial (≈ 1.1°).
+pub const COAXIAL_SIN: f64 = 0.02;
+
+/// A candidate contact with A's force normal.
+#[derive(Clone, Copy)]
+struct Cand {
+    depth: f64,
+    point: DVec3,
+    normal: DVec3,
+}
+
+/// Parallel blend weight `w(sin)` (see [`PARALLEL_BLEND_SIN`]) and its
+/// gradient with respect to a rotation of A: `dw/dsin · ∂sin/∂φ_A` with
+/// `∂|a×b|/∂φ_A = −(a·b) (a×b)/|a×b|`.
+#[inline]
+fn parallel_weight(a: &FibreGeom, b: &FibreGeom, sin: f64) -> (f64, DVec3) {
+    if sin <= PARALLEL_BLEND_SIN {
+        return (1.0, DVec3::ZERO);
+    }
+    if sin >= PARALLEL_SIN {
+        return (0.0, DVec3::ZERO);
+    }
+    let width = PARALLEL_SIN - PARALLEL_BLEND_SIN;
+    let x = (sin - PARALLEL_BLEND_SIN) / width;
+    let w = 1.0 - x * x * (3.0 - 2.0 * x);
+    let dw = -6.0 * x * (1.0 - x) / width;
+    let grad = (-dw * a.axis.dot(b.axis) / sin) * a.axis.cross(b.axis);
+    (w, grad)
+}
+
+/// Near-coaxial end-to-end contact: the end-involved depth
+/// (`penetration_smoothed`, domed min over directions) started from A's
+/// facing face normal, without parry (parry is wrong for exactly coaxial
+/// pairs); `cp_normal` (the closest-point normal) seeds the search for a
+/// tied second minimum as in regime 3. `None` when the pair is not end to
+/// end (axial overlap ≥ min radius) or A's facing face centre is not over
+/// B's face (rim on rim: regime 3 with parry). Regimes 1–3 share one depth
+/// function, so these acceptance tests switch only how the minimum is
+/// seeded, not the potential.
+fn coaxial(a: &FibreGeom, b: &FibreGeom, cp_normal: DVec3) -> Option<Blend> {
+    let w = a.centre - b.centre;
+    let axial = w.dot(b.axis);
+    let axial_overlap = a.half_length + b.half_length - axial.abs();
+    if axial_overlap >= a.radius.min(b.radius) {
+        return None;
+    }
+    let side = a.axis.dot(w).signum();
+    let face = a.centre - side * a.half_length * a.axis;
+    let lateral = face - b.centre;
+    if (lateral - lateral.dot(b.axis) * b.axis).length() > b.radius {
+        return None;
+    }
+    Some(penetration_smoothed(a, b, [cp_normal, side * a.axis]))
+}
+
+/// Fibre–fibre contacts of `a` with `b`, appended to `out` (none when
+/// apart; a blended or split depth is several weighted points); normal =
+/// direction of the force on A. `counters` counts the parry calls and
+/// checks.
+pub fn contact_fibre_fibre(
+    a: &FibreGeom,
+    b: &FibreGeom,
+    out: &mut Vec<ContactPoint>,
+    counters: &mut KernelCounters,
+) {
+    let (s, t) = segment_closest_params(a, b);
+    let d_seg = (a.centre + s * a.axis - b.centre - t * b.axis).length();
+    let bound = a.radius + b.radius - d_seg;
+    if bound <= 0.0 {
+        return;
+    }
+    let sin = a.axis.cross(b.axis).length();
+
+    // 1. Near-coaxial end to end.
+    if sin < COAXIAL_SIN {
+        let cp_normal = closest_point_contact(a, b, s, t).normal;
+        if let Some(c) = coaxial(a, b, cp_normal) {
+            c.push(out, a, 1.0, DVec3::ZERO);
+            return;
+        }
+    }
+
+    // 2. Side–side.
+    let interior = s.abs() < a.half_length && t.abs() < b.half_length;
+    // Axial overlap of the segments, measured along A.
+    let axial_len = axial_overlap(a, b).len;
+    // Parallel blend: potential U(δ_main) + w·U(δ_2) when interior, else
+    // w·(U(δ_main) + U(δ_2)) + (1 − w)·U(δ_pd) (regime 3's depth), so
+    // the second contact and the model switch fade in/out continuously.
+    let (w_par, w_grad) = parallel_weight(a, b, sin);
+    let mut w_side = 0.0;
+    if interior || (sin < PARALLEL_SIN && axial_len > 0.0) {
+        let (main, second) = side_side(a, b, s, t);
+        second.push(out, a, w_par, w_grad);
+        if interior {
+            main.push(out, a, 1.0, DVec3::ZERO);
+            return;
+        }
+        main.push(out, a, w_par, w_grad);
+        if w_par >= 1.0 {
+            return;
+        }
+        w_side = w_par;
+    }
+
+    // 3. End involved: parry's normal (checked) seeds an exact minimisation
+    //    of the projection overlap over the cylinders' feature manifolds.
+    let cp = closest_point_contact(a, b, s, t);
+    let margin = dome_sag(a.radius) + dome_sag(b.radius);
+    // A separating axis among the cheap candidates proves there is no
+    // contact without asking parry (most near misses of capsules).
+    if cheap_axis_separates(a, b, margin, cp.normal) {
+        return;
+    }
+    let parry_n = match parry_contact(a, b, bound, margin, counters) {
+        Ok(None) => {
+            confirm_separated(a, b, margin, cp.normal, counters);
+            return;
+        }
+        Ok(Some(c)) => c.normal,
+        Err(n) => {
+            counters.parry_rejects += 1;
+            n
+        }
+    };
+    let (w_pd, g_pd) = if w_side > 0.0 {
+        (1.0 - w_side, -w_grad)
+    } else {
+        (1.0, DVec3::ZERO)
+    };
+    penetration_smoothed(a, b, [cp.normal, parry_n]).push(out, a, w_pd, g_pd);
+}
