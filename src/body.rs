@@ -7,15 +7,20 @@ use glam::{DQuat, DVec3};
 pub enum Shape {
     /// Solid flat-ended cylinder.
     Fibre {
+        /// D, m.
         diameter: f64,
+        /// L, m.
         length: f64,
     },
+    /// Solid sphere (contact-free scenes only).
     Sphere {
+        /// m.
         diameter: f64,
     },
 }
 
 impl Shape {
+    /// Volume, m³.
     pub fn volume(&self) -> f64 {
         use std::f64::consts::PI;
         match *self {
@@ -58,11 +63,14 @@ impl Shape {
 /// Principal inertia (diagonal in the body frame) and its inverse.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Inertia {
+    /// Principal moments `(I₁, I₂, I₃)`, kg m², body frame.
     pub principal: DVec3,
+    /// Their reciprocals.
     pub inverse: DVec3,
 }
 
 impl Inertia {
+    /// The inertia with these principal moments.
     pub fn new(principal: DVec3) -> Self {
         Inertia {
             principal,
@@ -103,9 +111,10 @@ pub struct Material {
     pub name: String,
     /// kg/m³.
     pub density: f64,
-    /// Young's modulus (Pa) and Poisson ratio, used only by contacts (NaN in
-    /// contact-free scenes that do not give them).
+    /// Young's modulus, Pa, used only by contacts (NaN in contact-free
+    /// scenes that do not give it).
     pub young: f64,
+    /// Poisson ratio, likewise.
     pub poisson: f64,
 }
 
@@ -114,15 +123,20 @@ pub struct Material {
 /// hot loops stream only numbers.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Body {
+    /// The body's shape.
     pub shape: Shape,
+    /// Its material in the scene's table.
     pub material: MaterialId,
+    /// kg.
     pub mass: f64,
     /// `1/m`, kept so the step multiplies instead of dividing.
     pub inv_mass: f64,
+    /// Principal inertia, body frame.
     pub inertia: Inertia,
 }
 
 impl Body {
+    /// A body of `shape` and `density`, made of `material`.
     pub fn new(shape: Shape, material: MaterialId, density: f64) -> Self {
         let mass = density * shape.volume();
         Body {
@@ -139,14 +153,19 @@ impl Body {
 /// body-frame angular velocity.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RotState {
+    /// Orientation, body → world (unit).
     pub q: DQuat,
+    /// Angular velocity in the body frame, rad/s.
     pub omega_b: DVec3,
 }
 
 /// Full kinematic state of one body.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BodyState {
+    /// Centre of mass, m (world).
     pub x: DVec3,
+    /// Its velocity, m/s (world).
     pub v: DVec3,
+    /// Orientation and spin.
     pub rot: RotState,
 }

@@ -18,6 +18,7 @@ pub struct Ledger {
 }
 
 impl Ledger {
+    /// The ledger of `states`, with the contacts' elastic energy.
     pub fn measure(
         bodies: &[Body],
         states: &[BodyState],

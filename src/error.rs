@@ -14,15 +14,20 @@ fn at(line: &Option<(usize, usize)>) -> String {
 }
 
 #[derive(Debug, thiserror::Error)]
+/// Every error of fibresim, by what the user must do about it.
 pub enum Error {
     /// The scenario file or the command line is wrong. `file`, `line` (1-based
     /// line and column of the key in the file, when it has one) and `key`
     /// locate it; `message` says what is wrong and how to fix it.
     #[error("{file}{}: {key}: {message}", at(.line))]
     BadInput {
+        /// The scenario file, `checkpoint` or `command line`.
         file: String,
+        /// Line and column of the key in the file.
         line: Option<(usize, usize)>,
+        /// The key or flag.
         key: String,
+        /// What is wrong and how to fix it.
         message: String,
     },
     /// The run was stopped because it stopped being trustworthy.
@@ -32,13 +37,17 @@ pub enum Error {
     #[error("{} at step {} (t = {:.9e} s)", .0.kind, .0.step, .0.t)]
     Interrupted(Diagnosis),
     #[error("cannot write {path}: {source}")]
+    /// An output could not be written (exit 1).
     Io {
+        /// The file.
         path: PathBuf,
+        /// The system's error.
         source: std::io::Error,
     },
 }
 
 impl Error {
+    /// Bad input at `key` of `file`, with a message that gives the fix.
     pub fn bad(
         file: impl Into<String>,
         key: impl Into<String>,
@@ -71,6 +80,7 @@ impl Error {
         }
     }
 
+    /// An I/O error on `path`.
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
         Error::Io {
             path: path.into(),
@@ -89,4 +99,5 @@ impl Error {
     }
 }
 
+/// fibresim's result type.
 pub type Result<T> = std::result::Result<T, Error>;

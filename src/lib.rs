@@ -21,6 +21,8 @@
 //! Data flows one way: [`scenario`] (raw TOML → checked [`scenario::Scene`]) →
 //! [`integrate`] (the fixed step sequence) → [`output`] (observers).
 
+#![warn(missing_docs)]
+
 pub mod advice;
 pub mod body;
 pub mod cli;

@@ -24,7 +24,10 @@ pub enum StopKind {
     /// rotator before its step completes.
     ScalarSingularity,
     /// SIGINT: a checkpoint was written at `checkpoint`.
-    Interrupted { checkpoint: PathBuf },
+    Interrupted {
+        /// The checkpoint written before stopping.
+        checkpoint: PathBuf,
+    },
 }
 
 impl StopKind {
@@ -96,12 +99,17 @@ impl std::fmt::Display for StopKind {
 /// A named, early stop of a run that would otherwise produce garbage.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Diagnosis {
+    /// What stopped the run.
     pub kind: StopKind,
+    /// The step of the stop.
     pub step: u64,
+    /// Its time, s.
     pub t: f64,
     /// Global id of the body concerned, if one is.
     pub body: Option<u64>,
+    /// The quantity's value.
     pub value: f64,
+    /// The limit it crossed.
     pub limit: f64,
 }
 

@@ -52,6 +52,7 @@ pub const STEPS_PER_TILT_PERIOD: f64 = 50.0;
 pub const MIN_STEPS_PER_COLLISION: f64 = 5.0;
 
 #[derive(Debug, Clone, serde::Serialize)]
+/// The advice for one pair type (a body kind with a wall, or two kinds).
 pub struct PairAdvice {
     /// e.g. `fibre0–wall`, `fibre0–fibre3` (first body of each distinct kind).
     pub pair: String,
@@ -59,22 +60,28 @@ pub struct PairAdvice {
     pub reduced_mass: f64,
     /// The translational reduced mass alone (`m`, or `m_i m_j/(m_i + m_j)`).
     pub translational_mass: f64,
+    /// Bound on the approach speed at the contact point, m/s.
     pub v_max: f64,
+    /// Hertz collision time at `v_max`, s.
     pub contact_time: f64,
+    /// Rayleigh time of the softer material, s.
     pub rayleigh_time: f64,
     /// Period of a face rocking on the contact at the peak force (module docs).
     pub tilt_period: f64,
 }
 
 #[derive(Debug, Clone, serde::Serialize)]
+/// The time-step advice of a scene.
 pub struct Advice {
     /// Energy available for impacts, J (see the module docs).
     pub available_energy: f64,
+    /// One entry per pair type that can touch.
     pub pairs: Vec<PairAdvice>,
     /// Recommended δt, s (None: no contacts, accuracy is the only limit).
     pub recommended_dt: Option<f64>,
     /// Above this δt a collision spans fewer than 5 steps.
     pub hard_limit_dt: Option<f64>,
+    /// What `run` and `check` print as warnings.
     pub warnings: Vec<String>,
 }
 
@@ -141,6 +148,7 @@ fn same_kind(scene: &Scene, a: &Body, b: &Body) -> bool {
         && ma.poisson == mb.poisson
 }
 
+/// The advice for `scene` (see the module docs).
 pub fn advise(scene: &Scene) -> Advice {
     let mut warnings = vec![];
     let mut e = 0.0;

@@ -7,7 +7,9 @@ use std::fmt;
 
 /// `fibresim check`'s report of `scene` with its `advice`.
 pub struct CheckReport<'a> {
+    /// The scene.
     pub scene: &'a Scene,
+    /// Its advice.
     pub advice: &'a Advice,
 }
 

@@ -1,4 +1,8 @@
 //! Command-line definitions (clap): the raw arguments, before any check.
+//!
+//! clap turns doc comments into `--help` text, so the types here are
+//! documented by their help, not by rustdoc.
+#![allow(missing_docs, rustdoc::invalid_html_tags)]
 
 use crate::integrate::rotate::RotatorKind;
 use clap::{Args, Parser, Subcommand};

@@ -21,17 +21,23 @@ const DEFAULT_SCENE: (&str, &str) = (
 
 /// `fibresim run`, checked.
 pub struct RunPlan {
+    /// The scene, with the flags' overrides.
     pub scene: Scene,
+    /// Where to write and how often to checkpoint.
     pub opts: RunOptions,
     /// The checkpoint to continue, and the folder it was found in.
     pub resume: Option<(Checkpoint, PathBuf)>,
+    /// The time-step advice (its warnings are printed before the run).
     pub advice: Advice,
+    /// No progress bar, no summary on stdout.
     pub quiet: bool,
 }
 
 /// `fibresim check`, checked.
 pub struct CheckPlan {
+    /// The scene, with `--dt` applied.
     pub scene: Scene,
+    /// Its advice.
     pub advice: Advice,
 }
 
@@ -144,6 +150,7 @@ impl RunArgs {
 }
 
 impl CheckArgs {
+    /// Load the scene and judge `--dt` instead of its own.
     pub fn plan(self) -> Result<CheckPlan> {
         let mut scene = scenario::load(&self.scenario)?;
         if let Some(dt) = self.dt {
@@ -165,6 +172,7 @@ fn study_scene(path: &Path, sub: &str) -> Result<(Scene, PathBuf)> {
 }
 
 impl CompareArgs {
+    /// The scene and the study's options.
     pub fn plan(self) -> Result<(Scene, CompareOptions)> {
         let (scene, default_out) = study_scene(&self.scenario, "compare")?;
         let opts = CompareOptions {
@@ -179,6 +187,7 @@ impl CompareArgs {
 }
 
 impl ConvergeArgs {
+    /// The scene and the study's options.
     pub fn plan(self) -> Result<(Scene, ConvergeOptions)> {
         let (scene, default_out) = study_scene(&self.scenario, "converge")?;
         let opts = ConvergeOptions {
@@ -196,6 +205,7 @@ impl ConvergeArgs {
 }
 
 impl StressArgs {
+    /// The stress cases and the sweep's options.
     pub fn plan(self) -> Result<(Vec<StressCase>, StressOptions)> {
         let factors = self
             .factors

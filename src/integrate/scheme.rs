@@ -16,13 +16,23 @@
 pub enum Stage {
     /// Translation half-kick and drift, and the rotator's `advance`, over the
     /// sub-step `[t_n + start·δt, t_n + (start + h)·δt]`.
-    Open { start: f64, h: f64 },
+    Open {
+        /// Start of the sub-step, in δt from `t_n`.
+        start: f64,
+        /// Its length, in δt.
+        h: f64,
+    },
     /// Contact forces and torques at the current configuration.
     Forces,
     /// Closing translation half-kick and the rotator's `finish`, at
     /// `t_n + end·δt`, of the sub-step of length `h·δt`. The last stage of a
     /// step is always a `Close`; it also measures the energy ledger.
-    Close { end: f64, h: f64 },
+    Close {
+        /// End of the sub-step, in δt from `t_n`.
+        end: f64,
+        /// Its length, in δt.
+        h: f64,
+    },
 }
 
 /// Velocity Verlet with one force evaluation per step (paper §4; Allen &
@@ -32,6 +42,18 @@ pub const VERLET: &[Stage] = &[
     Stage::Forces,
     Stage::Close { end: 1.0, h: 1.0 },
 ];
+
+/// Whether `stages` is [`VERLET`] (so the step can run it without a loop).
+pub const fn is_verlet(stages: &[Stage]) -> bool {
+    matches!(
+        stages,
+        [
+            Stage::Open { start: 0.0, h: 1.0 },
+            Stage::Forces,
+            Stage::Close { end: 1.0, h: 1.0 }
+        ]
+    )
+}
 
 /// Whether `stages` form a valid step: it ends with a `Close`, opens and
 /// closes alternate, and every close follows a force evaluation.

@@ -53,22 +53,31 @@ impl<'s> World<'s> {
         }
         let clock = self.timers.map(|_| Instant::now());
         let mut forces_time = Duration::ZERO;
-        let last = R::STAGES.len() - 1;
-        let mut sound = true;
-        for (k, stage) in R::STAGES.iter().enumerate() {
-            match *stage {
-                Stage::Open { start, h } => self.open::<R>(start, h)?,
-                Stage::Forces => match clock {
-                    None => self.compute_forces(),
-                    Some(_) => {
-                        let c = Instant::now();
-                        self.compute_forces();
-                        forces_time += c.elapsed();
-                    }
-                },
-                Stage::Close { end, h } => sound = self.close::<R>(end, h, k == last),
+        let mut forces = |w: &mut Self| match clock {
+            None => w.compute_forces(),
+            Some(_) => {
+                let c = Instant::now();
+                w.compute_forces();
+                forces_time += c.elapsed();
             }
-        }
+        };
+        let sound = if const { super::scheme::is_verlet(R::STAGES) } {
+            // The stages of VERLET, unrolled (no loop over the sequence).
+            self.open::<R>(0.0, 1.0)?;
+            forces(self);
+            self.close::<R>(1.0, 1.0, true)
+        } else {
+            let last = R::STAGES.len() - 1;
+            let mut sound = true;
+            for (k, stage) in R::STAGES.iter().enumerate() {
+                match *stage {
+                    Stage::Open { start, h } => self.open::<R>(start, h)?,
+                    Stage::Forces => forces(self),
+                    Stage::Close { end, h } => sound = self.close::<R>(end, h, k == last),
+                }
+            }
+            sound
+        };
         self.step += 1;
 
         let clock_guards = clock.map(|_| Instant::now());
@@ -116,6 +125,7 @@ impl<'s> World<'s> {
         let t = (self.step as f64 + start) * scene.sim.dt();
         let g = scene.gravity.unwrap_or(DVec3::ZERO);
         let len = R::Aux::LEN;
+        let has_torques = !scene.torques.is_empty();
         let mut prescribed = scene.torques.iter().peekable();
         let loads = self.force.iter().zip(&self.torque);
         for (i, ((s, body), (&f, &contact))) in self
@@ -126,12 +136,22 @@ impl<'s> World<'s> {
             .enumerate()
         {
             verlet::kick_drift(&mut s.x, &mut s.v, f * body.inv_mass + g, dt);
-            let aux = slot(&mut self.aux, i, len);
-            let mut a = R::Aux::read(aux);
-            let torque = torque_source(prescribed_at(&mut prescribed, i), contact);
-            R::advance(&mut s.rot, &mut a, &body.inertia, torque, t, dt)
-                .map_err(|fault| Box::new(fault_diagnosis(fault, scene.ids[i], self.step, t)))?;
-            a.write(aux);
+            let p = if has_torques {
+                prescribed_at(&mut prescribed, i)
+            } else {
+                None
+            };
+            let torque = torque_source(p, contact);
+            let fault = |fault| Box::new(fault_diagnosis(fault, scene.ids[i], self.step, t));
+            if const { R::Aux::LEN == 0 } {
+                let mut a = R::Aux::default();
+                R::advance(&mut s.rot, &mut a, &body.inertia, torque, t, dt).map_err(fault)?;
+            } else {
+                let aux = slot(&mut self.aux, i, len);
+                let mut a = R::Aux::read(aux);
+                R::advance(&mut s.rot, &mut a, &body.inertia, torque, t, dt).map_err(fault)?;
+                a.write(aux);
+            }
         }
         Ok(())
     }
@@ -152,6 +172,7 @@ impl<'s> World<'s> {
             ..Ledger::default()
         };
         let mut sound = true;
+        let has_torques = !scene.torques.is_empty();
         let mut prescribed = scene.torques.iter().peekable();
         let loads = self.force.iter().zip(&self.torque);
         for (i, ((s, body), (&f, &contact))) in self
@@ -162,11 +183,21 @@ impl<'s> World<'s> {
             .enumerate()
         {
             verlet::kick(&mut s.v, f * body.inv_mass + g, dt);
-            let aux = slot(&mut self.aux, i, len);
-            let mut a = R::Aux::read(aux);
-            let torque = torque_source(prescribed_at(&mut prescribed, i), contact);
-            R::finish(&mut s.rot, &mut a, &body.inertia, torque, t_end, dt);
-            a.write(aux);
+            let p = if has_torques {
+                prescribed_at(&mut prescribed, i)
+            } else {
+                None
+            };
+            let torque = torque_source(p, contact);
+            if const { R::Aux::LEN == 0 } {
+                let mut a = R::Aux::default();
+                R::finish(&mut s.rot, &mut a, &body.inertia, torque, t_end, dt);
+            } else {
+                let aux = slot(&mut self.aux, i, len);
+                let mut a = R::Aux::read(aux);
+                R::finish(&mut s.rot, &mut a, &body.inertia, torque, t_end, dt);
+                a.write(aux);
+            }
             if last {
                 ledger.add_body(body, s, g);
                 sound &= body_is_sound(s);

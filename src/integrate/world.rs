@@ -11,6 +11,7 @@ use glam::DVec3;
 /// The evolving state of a scene.
 #[derive(Debug, Clone)]
 pub struct World<'s> {
+    /// The scene being run.
     pub scene: &'s Scene,
     /// Kinematic state per body, by storage index (a compact 104-byte
     /// record; per-body constants are in `scene.bodies`).
@@ -21,6 +22,7 @@ pub struct World<'s> {
     pub aux: Vec<f64>,
     /// Latest contact force and torque per body (world frame), at `states`.
     pub force: Vec<DVec3>,
+    /// (See `force`.)
     pub torque: Vec<DVec3>,
     /// Number of completed steps; the time is `step · δt`.
     pub step: u64,
@@ -52,6 +54,7 @@ pub struct StageTimes {
 }
 
 impl<'s> World<'s> {
+    /// The scene at step 0, with its forces and ledger computed.
     pub fn new(scene: &'s Scene) -> Self {
         let n = scene.bodies.len();
         let mut w = World {
@@ -102,6 +105,7 @@ impl<'s> World<'s> {
         self.contacts.as_ref().map_or(0.0, |c| c.stats.elastic)
     }
 
+    /// The time of the current step, `step · δt`, s.
     pub fn time(&self) -> f64 {
         self.step as f64 * self.scene.sim.dt()
     }

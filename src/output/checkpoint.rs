@@ -18,13 +18,19 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+/// The format this version writes and reads.
 pub const FORMAT: &str = "fibresim-checkpoint-2";
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
+/// A checkpoint (`checkpoint.json`).
 pub struct Checkpoint {
+    /// [`FORMAT`].
     pub format: String,
+    /// Where the scenario came from.
     pub scenario_source: String,
+    /// The scenario text, as read.
     pub scenario_text: String,
+    /// The rotator's name.
     pub rotator: String,
     /// δt, bits.
     pub dt: String,
@@ -34,6 +40,7 @@ pub struct Checkpoint {
     pub guards: [String; 2],
     /// Completed steps; the time is `step · δt` (informative copy in `t`).
     pub step: u64,
+    /// The time of `step`, s (informative).
     pub t: f64,
     /// Global body ids, in the order of `states`.
     pub ids: Vec<u64>,
@@ -49,10 +56,12 @@ pub struct Checkpoint {
     pub observers: BTreeMap<String, Vec<String>>,
 }
 
+/// A float as its 16-digit hex bit pattern.
 pub fn bits(x: f64) -> String {
     format!("{:016x}", x.to_bits())
 }
 
+/// The float of a hex bit pattern; `what` names it in the error.
 pub fn unbits(s: &str, what: &str) -> Result<f64> {
     u64::from_str_radix(s, 16).map(f64::from_bits).map_err(|_| {
         Error::bad(
@@ -67,6 +76,7 @@ fn unbits_all(v: &[String], what: &str) -> Result<Vec<f64>> {
     v.iter().map(|s| unbits(s, what)).collect()
 }
 
+/// A body's state as 13 bit patterns.
 pub fn state_bits(s: &BodyState) -> Vec<String> {
     let q = s.rot.q;
     [s.x.to_array(), s.v.to_array()]
@@ -78,6 +88,7 @@ pub fn state_bits(s: &BodyState) -> Vec<String> {
         .collect()
 }
 
+/// A body's state from its 13 bit patterns.
 pub fn state_from_bits(v: &[String]) -> Result<BodyState> {
     if v.len() != 13 {
         return Err(Error::bad(
@@ -132,6 +143,7 @@ impl Checkpoint {
         std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
     }
 
+    /// Read and check a checkpoint file.
     pub fn read(path: &Path) -> Result<Self> {
         let file = path.display().to_string();
         let text = std::fs::read_to_string(path).map_err(|e| {
@@ -220,9 +232,9 @@ pub fn restore(
         ));
     }
     let s = unbits_all(&c.run_stats, "run_stats")?;
-    let stats: [f64; 8] = s
+    let stats: [f64; 11] = s
         .try_into()
-        .map_err(|_| Error::bad("checkpoint", "run_stats", "needs 8 numbers"))?;
+        .map_err(|_| Error::bad("checkpoint", "run_stats", "needs 11 numbers"))?;
     Ok((states, aux, RunStats::from_array(stats)))
 }
 
@@ -232,6 +244,7 @@ pub const CHECKPOINT_FILE: &str = "checkpoint.json";
 /// The observer that writes `checkpoint.json` (last in the observer list, so
 /// the checkpoint holds every other observer's part).
 pub struct CheckpointFile {
+    /// `checkpoint.json` in the output folder.
     pub path: PathBuf,
 }
 

@@ -1,12 +1,14 @@
 //! `energy.csv`: the energy ledger per output row, with Eq. 65 errors (column
 //! names are a public contract).
 
-use super::file::{csv_err, CsvFile};
+use super::file::{csv_err, not_open, CsvFile};
 use super::Row;
 use crate::error::Result;
 use crate::output::Checkpoint;
 use crate::run::observer::{Observer, RunEnd, View};
+use crate::run::stats::Window;
 
+/// The columns every energy.csv has (contact scenes add two).
 pub const ENERGY_COLUMNS: [&str; 11] = [
     "step",
     "t",
@@ -32,14 +34,6 @@ pub struct EnergyCsv {
     every: u64,
     with_contacts: bool,
     window: Window,
-}
-
-/// Largest Eq. 65 error, full-budget error and δ/D since the previous row.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-struct Window {
-    error: f64,
-    error_full: f64,
-    overlap: f64,
 }
 
 /// The observer's name in checkpoints.
@@ -71,17 +65,8 @@ impl Observer for EnergyCsv {
         self.file.create(&cols)
     }
 
-    fn every_step(&self) -> bool {
-        true
-    }
-
-    #[inline]
-    fn after_step(&mut self, v: &View) {
-        let (s, w) = (v.stats, &mut self.window);
-        w.overlap = w.overlap.max(s.last_overlap_ratio);
-        // f64::max ignores NaN, so the maxima stay NaN-free for E_0 = 0 scenes.
-        w.error = w.error.max(s.last_error);
-        w.error_full = w.error_full.max(s.last_error_full);
+    fn event(&mut self, v: &View) {
+        self.window = self.window.max(v.stats.since_event);
     }
 
     /// The row of the step last accounted for; starts a new window.
@@ -99,8 +84,9 @@ impl Observer for EnergyCsv {
         };
         let touching = v.world.contact_stats().unwrap_or_default().touching as u64;
         let with_contacts = self.with_contacts;
-        let path = self.file.path.clone();
-        Row::new(self.file.writer()?)
+        let file = &mut self.file;
+        let path = &file.path;
+        Row::new(file.w.as_mut().ok_or_else(|| not_open(path))?)
             .u(v.world.step)
             .and_then(|r| r.f(v.world.time()))
             .and_then(|r| r.f(l.gravity))
@@ -118,7 +104,7 @@ impl Observer for EnergyCsv {
                 }
                 r.end()
             })
-            .map_err(|e| csv_err(&path, e))?;
+            .map_err(|e| csv_err(path, e))?;
         self.window = Window::default();
         Ok(())
     }

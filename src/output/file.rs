@@ -9,8 +9,14 @@ use std::path::{Path, PathBuf};
 /// with its header ([`CsvFile::create`]) or continued after a checkpoint
 /// ([`CsvFile::reopen`]).
 pub struct CsvFile {
+    /// The file's path.
     pub path: PathBuf,
-    w: Option<csv::Writer<BufWriter<File>>>,
+    pub(crate) w: Option<csv::Writer<BufWriter<File>>>,
+}
+
+/// The error of a file written before it was opened (a bug, reported, not a panic).
+pub(crate) fn not_open(path: &Path) -> Error {
+    Error::io(path, std::io::Error::other("written before it was opened"))
 }
 
 pub(crate) fn csv_err(path: &Path, e: csv::Error) -> Error {
@@ -36,9 +42,7 @@ impl CsvFile {
     /// The open writer (an I/O error, not a panic, if it was never opened).
     pub fn writer(&mut self) -> Result<&mut csv::Writer<BufWriter<File>>> {
         let path = &self.path;
-        self.w
-            .as_mut()
-            .ok_or_else(|| Error::io(path, std::io::Error::other("written before it was opened")))
+        self.w.as_mut().ok_or_else(|| not_open(path))
     }
 
     /// Open the file for appending after cutting it to `len` bytes (resume).

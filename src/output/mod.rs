@@ -61,6 +61,7 @@ pub struct Row<'w, W: std::io::Write> {
 }
 
 impl<'w, W: std::io::Write> Row<'w, W> {
+    /// A row builder writing into `w`.
     pub fn new(w: &'w mut csv::Writer<W>) -> Self {
         Row {
             w,
@@ -70,17 +71,20 @@ impl<'w, W: std::io::Write> Row<'w, W> {
     }
 
     #[inline]
+    /// Add a float field (shortest round-trip form).
     pub fn f(&mut self, x: f64) -> csv::Result<&mut Self> {
         self.w.write_field(self.buf.format(x))?;
         Ok(self)
     }
 
     #[inline]
+    /// Add an integer field.
     pub fn u(&mut self, x: u64) -> csv::Result<&mut Self> {
         self.w.write_field(self.ibuf.format(x))?;
         Ok(self)
     }
 
+    /// End the row.
     pub fn end(&mut self) -> csv::Result<()> {
         self.w.write_record(None::<&[u8]>)
     }

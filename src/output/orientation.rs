@@ -2,7 +2,7 @@
 //! closed-form reference, the reference quaternion and the geodesic angle
 //! to it (column names are a public contract).
 
-use super::file::{csv_err, CsvFile};
+use super::file::{csv_err, not_open, CsvFile};
 use super::Row;
 use crate::error::Result;
 use crate::math::{geodesic_angle, wxyz};
@@ -12,6 +12,7 @@ use glam::{DQuat, DVec3};
 
 const NAME: &str = "orientation.csv";
 
+/// The `orientation.csv` observer.
 pub struct OrientationCsv {
     file: CsvFile,
     every: u64,
@@ -53,8 +54,9 @@ impl Observer for OrientationCsv {
             .as_ref()
             .map(|r| r.orientation(t, scene.initial[0].rot.q));
         let with_reference = self.with_reference;
-        let path = self.file.path.clone();
-        let out = self.file.writer()?;
+        let file = &mut self.file;
+        let path = &file.path;
+        let out = file.w.as_mut().ok_or_else(|| not_open(path))?;
         for (s, &id) in w.states.iter().zip(&scene.ids) {
             let q = s.rot.q;
             let a = q * DVec3::X;
@@ -73,7 +75,7 @@ impl Observer for OrientationCsv {
                 }
                 row.end()
             };
-            write(out).map_err(|e| csv_err(&path, e))?;
+            write(out).map_err(|e| csv_err(path, e))?;
         }
         Ok(())
     }

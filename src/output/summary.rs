@@ -7,34 +7,51 @@ use crate::stop::Diagnosis;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
+/// One body's final state (`final` in summary.json).
 #[derive(Debug, Clone, Serialize)]
 pub struct BodyFinal {
     /// Global body id.
     pub body: u64,
     /// `[w, x, y, z]`.
     pub q: [f64; 4],
+    /// Centre of mass, m.
     pub x: [f64; 3],
+    /// Velocity, m/s.
     pub v: [f64; 3],
+    /// Body-frame angular velocity, rad/s.
     pub omega_body: [f64; 3],
 }
 
+/// `summary.json` (key names are a public contract).
 #[derive(Debug, Clone, Serialize)]
 pub struct Summary {
+    /// The scenario file (or `<built-in …>`).
     pub scenario: String,
+    /// The rotator's name.
     pub rotator: String,
+    /// Time step, s.
     pub dt: f64,
     /// Steps actually taken (fewer than planned if the run stopped).
     pub steps: u64,
+    /// Steps the run was to take.
     pub steps_planned: u64,
+    /// Planned end time `steps_planned · dt`, s.
     pub t_end: f64,
+    /// Steps between two output rows.
     pub every: u64,
+    /// Number of bodies.
     pub bodies: usize,
     /// Wall time of the stepping loop including output, s.
     pub wall_s: f64,
+    /// `wall_s` per body and step, ns.
     pub ns_per_body_step: f64,
+    /// Largest Eq. 65 error over every step, % (`null` when E₀ = 0).
     pub energy_error_max_pct: Option<f64>,
+    /// Eq. 65 error at the last step, %.
     pub energy_error_final_pct: Option<f64>,
+    /// Largest full-budget (with elastic energy) error over every step, %.
     pub energy_error_full_max_pct: Option<f64>,
+    /// Full-budget error at the last step, %.
     pub energy_error_full_final_pct: Option<f64>,
     /// Contact scenes: the largest overlap over the fibre diameter, δ/D.
     pub max_overlap_ratio: Option<f64>,
@@ -45,6 +62,7 @@ pub struct Summary {
     pub reference_x_error_pct: Option<f64>,
     /// Why the run stopped early, if it did.
     pub stopped: Option<Diagnosis>,
+    /// Every body's state at the last step.
     #[serde(rename = "final")]
     pub final_state: Vec<BodyFinal>,
 }
@@ -110,6 +128,7 @@ impl Summary {
         }
     }
 
+    /// Write as pretty JSON.
     pub fn write(&self, path: &Path) -> Result<()> {
         let text = serde_json::to_string_pretty(self).expect("summary serialises");
         std::fs::write(path, text + "\n").map_err(|e| Error::io(path, e))
@@ -121,10 +140,12 @@ impl Summary {
 pub struct SummaryJson {
     path: PathBuf,
     every: u64,
+    /// The summary, once the run has ended.
     pub summary: Option<Summary>,
 }
 
 impl SummaryJson {
+    /// `summary.json` in `dir`, for a run with rows every `every` steps.
     pub fn new(dir: &Path, every: u64) -> Self {
         SummaryJson {
             path: dir.join("summary.json"),

@@ -27,10 +27,15 @@ pub struct Control {
 
 /// The end of a drive: the final world, the run's statistics and the stop.
 pub struct Finished<'s> {
+    /// The world at the last step.
     pub world: World<'s>,
+    /// The run's statistics.
     pub stats: RunStats,
+    /// Why the run stopped early, if it did.
     pub stopped: Option<Diagnosis>,
+    /// Wall time of the loop, s.
     pub wall_s: f64,
+    /// The step the loop started from.
     pub first_step: u64,
 }
 
@@ -94,6 +99,7 @@ fn drive_with<'s, R: Rotator>(
                         o.row(&v)?;
                     }
                 }
+                stats.since_event = Default::default();
             }
             Some(c) => {
                 let (states, aux, restored) = checkpoint::restore(c, scene, R::Aux::LEN)?;
@@ -134,18 +140,27 @@ fn drive_with<'s, R: Rotator>(
             break;
         }
         stats.account(&world.ledger, world.contact_stats());
-        let v = View {
-            world: &world,
-            stats: &stats,
-        };
-        for &i in &per_step {
-            observers[i].after_step(&v);
+        if !per_step.is_empty() {
+            let v = View {
+                world: &world,
+                stats: &stats,
+            };
+            for &i in &per_step {
+                observers[i].after_step(&v);
+            }
         }
         let interrupted = interrupt.is_some_and(|(flag, _)| flag.load(Ordering::Relaxed));
         if world.step < next && !interrupted {
             continue;
         }
+        let v = View {
+            world: &world,
+            stats: &stats,
+        };
         let last = world.step == steps;
+        for o in observers.iter_mut() {
+            o.event(&v);
+        }
         let mut on_cadence = vec![false; observers.len()];
         for (i, o) in observers.iter_mut().enumerate() {
             if world.step == next_row[i] {
@@ -186,6 +201,7 @@ fn drive_with<'s, R: Rotator>(
             break;
         }
         next = next_event(&next_row, next_checkpoint);
+        stats.since_event = Default::default();
     }
     let wall_s = start.elapsed().as_secs_f64();
     let end = RunEnd {

@@ -28,6 +28,7 @@ pub static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 /// How to run: where to write, what to show, how often to checkpoint.
 #[derive(Debug, Clone, Default)]
 pub struct RunOptions {
+    /// Output folder.
     pub out_dir: PathBuf,
     /// Show a progress bar (only drawn when stderr is a terminal).
     pub progress: bool,

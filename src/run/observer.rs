@@ -11,7 +11,9 @@ use crate::stop::Diagnosis;
 
 /// What an observer sees: the world after a step, and the run's statistics.
 pub struct View<'a, 's> {
+    /// The world after the step.
     pub world: &'a World<'s>,
+    /// The run's statistics after the step.
     pub stats: &'a RunStats,
 }
 
@@ -28,7 +30,7 @@ pub struct RunEnd<'a> {
 /// An observer of the driver loop. Every hook has a default that does nothing.
 ///
 /// Order of calls: `start` and `row` at step 0 (a new run), or `resume` (a
-/// resumed one);
+/// resumed one); at each event `event`, then
 /// then after each step `after_step` (if [`Observer::every_step`]), `row` on
 /// the observer's cadence, `checkpoint` on the checkpoint cadence, `row` at
 /// the last step if it was not on cadence; `finish` once at the end, also
@@ -48,6 +50,11 @@ pub trait Observer {
     fn start(&mut self, _v: &View) -> Result<()> {
         Ok(())
     }
+
+    /// At every event of the driver (a step where any observer writes a row,
+    /// or a checkpoint), before its rows: `v.stats.since_event` holds the
+    /// maxima over the steps since the previous event.
+    fn event(&mut self, _v: &View) {}
 
     /// After every step, when [`Observer::every_step`] says so.
     fn after_step(&mut self, _v: &View) {}

@@ -9,19 +9,53 @@ use crate::energy::{error_pct, Ledger};
 pub struct RunStats {
     /// Eq. 64 and full-budget energy at step 0.
     pub e0: f64,
+    /// (See `e0`.)
     pub e0_full: f64,
     /// Largest δ/D over the whole run (contact scenes).
     pub max_overlap_ratio: f64,
     /// Largest Eq. 65 and full-budget errors over the whole run (every step).
     pub max_error: f64,
+    /// (See `max_error`.)
     pub max_error_full: f64,
     /// The errors and the largest δ/D of the last step accounted for.
     pub last_error: f64,
+    /// (See `last_error`.)
     pub last_error_full: f64,
+    /// (See `last_error`.)
     pub last_overlap_ratio: f64,
+    /// The largest errors and δ/D over the steps since the driver's last
+    /// event (a row or a checkpoint of any observer): an observer that needs
+    /// maxima between its rows folds this at every event
+    /// ([`super::Observer::event`]) instead of looking at every step.
+    pub since_event: Window,
+}
+
+/// Largest Eq. 65 error, full-budget error and δ/D over a span of steps.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Window {
+    /// Eq. 65 error, %.
+    pub error: f64,
+    /// Full-budget error, %.
+    pub error_full: f64,
+    /// δ/D.
+    pub overlap: f64,
+}
+
+impl Window {
+    /// The maxima of both spans. `f64::max` ignores NaN, so the maxima stay
+    /// NaN-free for E_0 = 0 scenes.
+    #[inline]
+    pub fn max(self, o: Window) -> Window {
+        Window {
+            error: self.error.max(o.error),
+            error_full: self.error_full.max(o.error_full),
+            overlap: self.overlap.max(o.overlap),
+        }
+    }
 }
 
 impl RunStats {
+    /// Statistics of a run starting with the ledger `initial`.
     pub fn new(initial: &Ledger) -> Self {
         RunStats {
             e0: initial.total(),
@@ -32,6 +66,7 @@ impl RunStats {
             last_error: f64::NAN,
             last_error_full: f64::NAN,
             last_overlap_ratio: 0.0,
+            since_event: Window::default(),
         }
     }
 
@@ -48,9 +83,15 @@ impl RunStats {
         self.max_error_full = self.max_error_full.max(err_full);
         self.last_error = err;
         self.last_error_full = err_full;
+        self.since_event = self.since_event.max(Window {
+            error: err,
+            error_full: err_full,
+            overlap: c.max_overlap_ratio,
+        });
     }
 
-    pub fn to_array(&self) -> [f64; 8] {
+    /// The statistics as numbers (checkpoints).
+    pub fn to_array(&self) -> [f64; 11] {
         [
             self.e0,
             self.e0_full,
@@ -60,10 +101,14 @@ impl RunStats {
             self.last_error,
             self.last_error_full,
             self.last_overlap_ratio,
+            self.since_event.error,
+            self.since_event.error_full,
+            self.since_event.overlap,
         ]
     }
 
-    pub fn from_array(a: [f64; 8]) -> Self {
+    /// The statistics from [`RunStats::to_array`].
+    pub fn from_array(a: [f64; 11]) -> Self {
         RunStats {
             e0: a[0],
             e0_full: a[1],
@@ -73,6 +118,11 @@ impl RunStats {
             last_error: a[5],
             last_error_full: a[6],
             last_overlap_ratio: a[7],
+            since_event: Window {
+                error: a[8],
+                error_full: a[9],
+                overlap: a[10],
+            },
         }
     }
 }

@@ -4,20 +4,27 @@
 use serde::Deserialize;
 use std::collections::BTreeMap;
 
+/// A whole scenario file.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ScenarioFile {
+    /// `[simulation]`: time step, end time, rotator, output cadence.
     pub simulation: SimulationSection,
+    /// `[world]`: gravity.
     #[serde(default)]
     pub world: WorldSection,
     /// Axis-aligned box whose six faces are walls.
     #[serde(rename = "box")]
     pub walls: Option<BoxSection>,
+    /// `[material.NAME]` tables, referred to by `body.material`.
     #[serde(default)]
     pub material: BTreeMap<String, MaterialSection>,
+    /// `[[body]]` tables.
     #[serde(default)]
     pub body: Vec<BodySection>,
+    /// `[reference]`: a closed-form solution the scene declares.
     pub reference: Option<ReferenceSection>,
+    /// `[guards]`: limits that stop a run early.
     #[serde(default)]
     pub guards: GuardsSection,
 }
@@ -32,6 +39,7 @@ pub struct GuardsSection {
     pub overlap_ratio: Option<f64>,
 }
 
+/// `[simulation]`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SimulationSection {
@@ -45,6 +53,7 @@ pub struct SimulationSection {
     pub every: Option<u64>,
 }
 
+/// `[world]`.
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WorldSection {
@@ -52,48 +61,69 @@ pub struct WorldSection {
     pub gravity: Option<[f64; 3]>,
 }
 
+/// `[box]`: an axis-aligned box whose six faces are walls.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BoxSection {
+    /// Lower corner, m.
     pub min: [f64; 3],
+    /// Upper corner, m.
     pub max: [f64; 3],
+    /// Young's modulus of the walls, Pa.
     pub young: f64,
+    /// Poisson ratio of the walls.
     pub poisson: f64,
 }
 
+/// `[material.NAME]`.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialSection {
+    /// kg/m³.
     pub density: f64,
+    /// Young's modulus, Pa (needed where bodies can touch).
     pub young: Option<f64>,
+    /// Poisson ratio (needed where bodies can touch).
     pub poisson: Option<f64>,
 }
 
+/// `body.shape`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ShapeName {
+    /// Flat-ended solid cylinder.
     Fibre,
+    /// Solid sphere (contact-free scenes only).
     Sphere,
 }
 
+/// `[[body]]`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BodySection {
+    /// A label for messages and outputs (default `body<index>`).
     pub name: Option<String>,
+    /// `fibre` or `sphere`.
     pub shape: ShapeName,
+    /// m.
     pub diameter: f64,
     /// Fibres only.
     pub length: Option<f64>,
     /// Either `material = "name"` or inline `density` (+ `young`, `poisson`).
     pub material: Option<String>,
+    /// Inline density, kg/m³.
     pub density: Option<f64>,
+    /// Inline Young's modulus, Pa.
     pub young: Option<f64>,
+    /// Inline Poisson ratio.
     pub poisson: Option<f64>,
+    /// Centre of mass, m (world).
     pub position: [f64; 3],
     /// Direction of body x (the fibre axis) in the world; or give `quaternion`.
     pub axis: Option<[f64; 3]>,
     /// Orientation `[w, x, y, z]`, body → world.
     pub quaternion: Option<[f64; 4]>,
+    /// Velocity of the centre of mass, m/s (world).
     #[serde(default)]
     pub velocity: [f64; 3],
     /// World-frame angular velocity, rad/s.
@@ -103,14 +133,18 @@ pub struct BodySection {
     pub torque: Option<[TorqueComponent; 3]>,
 }
 
+/// One component of a prescribed torque.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(untagged)]
 pub enum TorqueComponent {
+    /// A constant, N·m.
     Number(f64),
+    /// An expression in `t` (see the README's Scenario files).
     Expr(String),
 }
 
 impl TorqueComponent {
+    /// The component as expression text.
     pub fn text(&self) -> String {
         match self {
             TorqueComponent::Number(x) => format!("{x:e}"),
@@ -126,7 +160,10 @@ pub struct ReferenceSection {
     /// `"exp-torque-sphere"`: a sphere at rest under `τ = A e^{Ct} â` (world) turns
     /// about `â` by `θ(t) = A (e^{Ct} − 1 − Ct) / (I C²)`.
     pub closed_form: String,
+    /// The torque's direction `â` (world).
     pub axis: [f64; 3],
+    /// `A`, N·m.
     pub a: f64,
+    /// `C`, 1/s.
     pub c: f64,
 }

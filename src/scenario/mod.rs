@@ -1,4 +1,4 @@
-//! Scenario files: the raw TOML mirror ([`file`]) and its validation, once,
+//! Scenario files: the raw TOML mirror ([`file`](mod@file)) and its validation, once,
 //! into a ready-to-run [`Scene`] ([`build`], with the checks of bodies,
 //! numerical parameters and references in their own files).
 

@@ -12,9 +12,13 @@ use glam::{DQuat, DVec3};
 pub enum ClosedForm {
     /// Sphere of inertia `i` at rest under `τ = A e^{Ct} â`.
     ExpTorqueSphere {
+        /// Unit direction `â` of the torque (world).
         axis: DVec3,
+        /// `A`, N·m.
         a: f64,
+        /// `C`, 1/s.
         c: f64,
+        /// The sphere's moment of inertia, kg m².
         inertia: f64,
     },
 }

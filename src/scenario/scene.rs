@@ -14,6 +14,7 @@ pub use crate::contact::Walls;
 pub struct Prescribed {
     /// Storage index of the body.
     pub body: usize,
+    /// Its torque as a function of time.
     pub torque: PrescribedTorque,
 }
 
@@ -24,6 +25,7 @@ pub struct Scene {
     pub source: String,
     /// The scenario text as read (embedded in checkpoints).
     pub text: String,
+    /// Time step, step count, rotator, output cadence.
     pub sim: SimParams,
     /// Per-body constants, by storage index.
     pub bodies: Vec<Body>,
@@ -32,13 +34,19 @@ pub struct Scene {
     pub ids: Vec<u64>,
     /// Each body's `name`, by storage index.
     pub names: Vec<String>,
+    /// The material table (`Body::material` indexes it).
     pub materials: Vec<Material>,
+    /// Each body's state at step 0, by storage index.
     pub initial: Vec<BodyState>,
     /// Prescribed torques, sparse, in storage order of their bodies.
     pub torques: Vec<Prescribed>,
+    /// Gravitational acceleration, m/s² (`None`: no gravity).
     pub gravity: Option<DVec3>,
+    /// The box, if the scene has walls.
     pub walls: Option<Walls>,
+    /// A closed form the scene declares.
     pub reference: Option<ClosedForm>,
+    /// Limits that stop a run early.
     pub guards: Guards,
 }
 
@@ -48,6 +56,7 @@ impl Scene {
         self.walls.is_some() || self.bodies.len() > 1
     }
 
+    /// Whether any body has a prescribed torque.
     pub fn has_prescribed_torque(&self) -> bool {
         !self.torques.is_empty()
     }

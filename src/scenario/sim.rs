@@ -113,6 +113,7 @@ impl SimParams {
         self.steps
     }
 
+    /// The rotator.
     pub fn rotator(&self) -> RotatorKind {
         self.rotator
     }
@@ -129,6 +130,7 @@ impl SimParams {
             .unwrap_or_else(|| crate::output::default_every(self.steps))
     }
 
+    /// End time `steps · δt`, s.
     pub fn t_end(&self) -> f64 {
         self.steps as f64 * self.dt
     }

@@ -22,7 +22,9 @@ pub const ROUNDING_FLOOR: f64 = 1e-11;
 /// A scene and its step ladder.
 #[derive(Debug, Clone)]
 pub struct OrderCase {
+    /// The case's name, for messages.
     pub name: &'static str,
+    /// The scene, contact-free.
     pub scene: Scene,
     /// Steps, coarsest first, each half the previous.
     pub dts: Vec<f64>,
@@ -33,10 +35,13 @@ pub struct OrderCase {
 /// What [`measure`] found.
 #[derive(Debug, Clone)]
 pub struct OrderMeasurement {
+    /// The rotator measured.
     pub kind: RotatorKind,
     /// The fitted slope over [`OrderMeasurement::window`].
     pub order: f64,
+    /// The ladder's steps.
     pub dts: Vec<f64>,
+    /// The error at each rung, rad (infinite where a guard stopped it).
     pub errors: Vec<f64>,
     /// Indices of the rungs fitted.
     pub window: std::ops::Range<usize>,
@@ -130,7 +135,7 @@ pub fn reference(case: &OrderCase) -> (glam::DQuat, f64) {
     (fine, geodesic_angle(fine, coarse) / 15.0)
 }
 
-/// Measure `kind`'s order on `case` against `reference` (from [`reference`]).
+/// Measure `kind`'s order on `case` against `reference` (from [`reference()`]).
 /// A rung that stops (a guard) has an infinite error and is never fitted.
 pub fn measure(
     case: &OrderCase,

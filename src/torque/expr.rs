@@ -21,14 +21,23 @@
 /// A compiled expression.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Expr {
+    /// A number.
     Const(f64),
+    /// The time `t`, s.
     T,
+    /// `−a`.
     Neg(Box<Expr>),
+    /// `a + b`.
     Add(Box<Expr>, Box<Expr>),
+    /// `a − b`.
     Sub(Box<Expr>, Box<Expr>),
+    /// `a · b`.
     Mul(Box<Expr>, Box<Expr>),
+    /// `a / b`.
     Div(Box<Expr>, Box<Expr>),
+    /// `a ^ b`.
     Pow(Box<Expr>, Box<Expr>),
+    /// `f(a)`.
     Call(Func, Box<Expr>),
 }
 
@@ -95,6 +104,7 @@ impl Expr {
     }
 
     #[inline]
+    /// The value at time `t`.
     pub fn eval(&self, t: f64) -> f64 {
         match self {
             Expr::Const(c) => *c,
@@ -189,7 +199,7 @@ pub struct Program {
 
 impl Program {
     /// Flatten a (folded) expression; `Err` if it needs more than
-    /// [`PROGRAM_STACK`] operand slots.
+    /// `PROGRAM_STACK` operand slots.
     pub fn compile(e: &Expr) -> Result<Program, String> {
         let mut ops = Vec::new();
         let depth = emit(e, &mut ops);
@@ -202,6 +212,7 @@ impl Program {
     }
 
     #[inline]
+    /// The value at time `t` (the same operations as the tree, to the bit).
     pub fn eval(&self, t: f64) -> f64 {
         if self.depth == 1 {
             self.eval_chain(t)

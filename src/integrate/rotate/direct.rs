@@ -11,6 +11,7 @@ use crate::body::{Inertia, RotState};
 use crate::math::{exp_map, to_world};
 use glam::DVec3;
 
+/// Direct multiplication by the exponential map, Eq. 49–50.
 pub struct Direct;
 
 impl Rotator for Direct {

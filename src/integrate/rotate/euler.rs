@@ -11,6 +11,7 @@ use crate::body::{Inertia, RotState};
 use crate::math::{pure, to_world};
 use glam::DVec3;
 
+/// Euler's method, Eq. 31–32.
 pub struct Euler;
 
 impl Rotator for Euler {

@@ -8,6 +8,7 @@ use super::{Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};
 use glam::DVec3;
 
+/// The no-rotation diagnostic.
 pub struct Frozen;
 
 impl Rotator for Frozen {

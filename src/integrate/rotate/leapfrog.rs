@@ -21,6 +21,7 @@ use crate::body::{Inertia, RotState};
 use crate::math::{to_body, to_world, torque_to_body};
 use glam::{DQuat, DVec3};
 
+/// Leap-frog in the paper's Cayley form, Eq. 33–39.
 pub struct Leapfrog;
 
 impl Rotator for Leapfrog {

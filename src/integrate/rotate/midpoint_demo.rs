@@ -9,6 +9,7 @@ use crate::body::{Inertia, RotState};
 use crate::math::pure;
 use glam::DVec3;
 
+/// The explicit midpoint rule (test fixture).
 pub struct MidpointDemo;
 
 impl Rotator for MidpointDemo {

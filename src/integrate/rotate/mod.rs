@@ -16,7 +16,7 @@
 //! Each rotator states its contract as data in [`RotatorInfo`].
 //!
 //! **Adding a rotator**: one file here, implementing [`Rotator`], and one
-//! line in the [`rotator_list!`] call below. The list generates the module,
+//! line in the `rotator_list!` call below. The list generates the module,
 //! the [`RotatorKind`] variant, `--rotator`'s values and help, `fibresim
 //! rotators`, the README table (`fibresim rotators --markdown`) and the
 //! dispatch ([`RotatorKind::visit`]); the order tests iterate it.
@@ -39,7 +39,7 @@ macro_rules! rotator_list {
         /// [`RotatorInfo`].
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
         pub enum RotatorKind {
-            $( $(#[$attr])* $Type, )+
+            $( $(#[$attr])* #[doc = concat!("[`", stringify!($Type), "`]")] $Type, )+
         }
 
         impl RotatorKind {
@@ -88,13 +88,17 @@ mod list_tests;
 pub enum RotatorFault {
     /// The scalar factor `tan(‖δq‖)` of Eq. 41–45 reached its pole:
     /// `‖δq‖ = ‖ω‖δt/2 ≥ π/2`.
-    ScalarSingularity { half_angle: f64 },
+    ScalarSingularity {
+        /// `‖ω‖δt/2`, rad.
+        half_angle: f64,
+    },
 }
 
 /// Facts about a scheme, read by `--help`, `fibresim rotators`, the README
 /// table and the tests: the one place each is written.
 #[derive(Debug, Clone, Copy)]
 pub struct RotatorInfo {
+    /// The name `--rotator` and the scenario take.
     pub name: &'static str,
     /// One line saying what the scheme is.
     pub title: &'static str,
@@ -127,7 +131,9 @@ pub struct RotatorInfo {
 pub trait AuxState: Copy + Default + Send + Sync + 'static {
     /// Doubles per body.
     const LEN: usize;
+    /// The state of one body from its `LEN` doubles.
     fn read(from: &[f64]) -> Self;
+    /// Store the state in `LEN` doubles.
     fn write(&self, to: &mut [f64]);
 }
 
@@ -154,6 +160,7 @@ impl AuxState for DVec3 {
 /// One quaternion integration scheme. All state is in [`RotState`] and the
 /// scheme's [`Rotator::Aux`].
 pub trait Rotator {
+    /// The scheme's facts.
     const INFO: RotatorInfo;
 
     /// The stages of one whole step ([`VERLET`]: open, forces, close). A
@@ -196,7 +203,9 @@ pub trait Rotator {
 
 /// A computation generic over the rotator, for [`RotatorKind::visit`].
 pub trait RotatorVisitor {
+    /// What the computation returns.
     type Output;
+    /// Run the computation with rotator `R`.
     fn visit<R: Rotator>(self) -> Self::Output;
 }
 
@@ -235,10 +244,12 @@ impl RotatorKind {
         RotatorKind::Leapfrog,
     ];
 
+    /// The rotator's name (`--rotator`).
     pub fn name(self) -> &'static str {
         self.info().name
     }
 
+    /// The rotator of this name, if any.
     pub fn from_name(s: &str) -> Option<Self> {
         Self::SELECTABLE.iter().copied().find(|k| k.name() == s)
     }

@@ -13,6 +13,7 @@ use crate::body::{Inertia, RotState};
 use crate::math::pure;
 use glam::{DQuat, DVec3};
 
+/// Classical 4th-order Runge–Kutta on `(q, ω_b)`, projected.
 pub struct Rk4;
 
 #[inline]

@@ -13,6 +13,7 @@ use crate::body::{Inertia, RotState};
 use crate::math::{pure, to_world};
 use glam::DVec3;
 
+/// Kleppmann's scalar factor method, Eq. 40–45.
 pub struct Scalar;
 
 /// Largest `‖δq‖` accepted; beyond it `tan` changes branch (the pole at π/2).
