@@ -40,30 +40,24 @@ fn documented() {
         .to_string();
     assert!(help.contains(DEMO) && help.contains(info.title), "{help}");
     // A scenario may name it.
-    let scene = crate::scenario::parse_str(&SCENE.replace("pcdm", DEMO), "<demo>")
+    let text = format!(
+        "[simulation]\ndt = 1e-4\nt_end = 1e-3\nrotator = \"{DEMO}\"\n[[body]]\nshape = \"sphere\"\ndiameter = 1.0\ndensity = 1.0\nposition = [0.0, 0.0, 0.0]\n"
+    );
+    let scene = crate::scenario::parse_str(&text, "<demo>")
         .expect("the scenario key accepts every listed rotator");
     assert_eq!(scene.sim.rotator(), demo());
 }
 
-const SCENE: &str = r#"
-[simulation]
-dt = 1e-4
-t_end = 0.01
-rotator = "pcdm"
-[[body]]
-shape = "fibre"
-diameter = 0.01
-length = 0.025
-density = 1100.0
-position = [0.0, 0.0, 0.0]
-axis = [0.6, 0.8, 0.0]
-angular_velocity = [40.0, 25.0, -10.0]
-torque = ["2e-6*sin(30*t)", "1e-6*cos(20*t)", "5e-7"]
-"#;
+/// The order harness's smooth general load, cut to 100 steps, with the demo.
+fn demo_scene() -> crate::scenario::Scene {
+    let mut scene = crate::study::order::smooth_torque().scene;
+    scene.sim = crate::scenario::SimParams::with_steps(1e-4, 100, demo(), None).unwrap();
+    scene
+}
 
 #[test]
 fn run() {
-    let scene = crate::scenario::parse_str(&SCENE.replace("pcdm", DEMO), "<demo>").unwrap();
+    let scene = demo_scene();
     let dir = tempfile::tempdir().unwrap();
     let opts = crate::run::RunOptions {
         out_dir: dir.path().to_path_buf(),
