@@ -296,14 +296,16 @@ impl NeighbourList {
                 .zip(rotations)
                 .map(|(g, q)| (g.centre, q, g.half_length)),
         );
-        self.boxes.clear();
-        self.boxes.extend(geoms.iter().map(|g| {
+        // The boxes live only through the build (memory per fibre).
+        let mut boxes = std::mem::take(&mut self.boxes);
+        boxes.clear();
+        boxes.extend(geoms.iter().map(|g| {
             let (a, b) = segment_ends(g);
             let grow = DVec3::splat(g.radius + self.half_skin);
             (a.min(b) - grow, a.max(b) + grow)
         }));
         self.walls.clear();
-        for (i, (lo, hi)) in self.boxes.iter().enumerate() {
+        for (i, (lo, hi)) in boxes.iter().enumerate() {
             for (k, w) in walls.iter().enumerate() {
                 // Axis-aligned inward normal: the box corner nearest the wall.
                 let reach = w.normal.dot(if w.normal.max_element() > 0.0 {
@@ -317,9 +319,11 @@ impl NeighbourList {
             }
         }
         if geoms.len() <= BRUTE_FORCE_MAX {
-            candidate_pairs_with(&self.boxes, &mut self.order, &mut self.pairs);
+            candidate_pairs_with(&boxes, &mut self.order, &mut self.pairs);
+            self.boxes = boxes;
         } else {
-            grid_pairs(&self.boxes, &mut self.grid, &mut self.pairs);
+            grid_pairs(&boxes, &mut self.grid, &mut self.pairs);
+            self.grid = GridScratch::default();
         }
         // Only pairs whose capsules, grown by half the skin each, touch:
         // the boxes of long fibres overlap far more often than the fibres
@@ -332,6 +336,10 @@ impl NeighbourList {
             let reach = a.radius + b.radius;
             gap <= reach + 2.0 * half_skin + 1e-6 * reach
         });
+        if geoms.len() > BRUTE_FORCE_MAX {
+            // The box pairs outnumber the kept ones several times over.
+            self.pairs.shrink_to_fit();
+        }
         self.active.clear();
         self.active.extend(self.walls.iter().map(|&(i, _)| i));
         self.active

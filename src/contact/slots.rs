@@ -40,8 +40,8 @@ struct Hit {
 struct Incidence {
     /// Per body, the range of its entries in `pairs` (`start[b]..start[b+1]`).
     start: Vec<u32>,
-    /// `(candidate, body is side A)`.
-    pairs: Vec<(u32, bool)>,
+    /// The candidate, with [`SIDE_B`] set when the body is its side B.
+    pairs: Vec<u32>,
     /// Per body, the range of its wall candidates (body-major in the list).
     walls: Vec<u32>,
     /// The neighbour-list build this was made for.
@@ -61,6 +61,10 @@ pub(crate) struct Slots {
 
 const NONE: u32 = u32::MAX;
 
+/// The flag of an incidence entry whose body is the pair's side B (pair
+/// indices stay below 2³¹: ten pairs per fibre for 2×10⁸ fibres).
+const SIDE_B: u32 = 1 << 31;
+
 impl Incidence {
     fn rebuild(&mut self, n: usize, list: &NeighbourList) {
         // Pairs are sorted `(i, j)`, so pushing each pair to both bodies in
@@ -75,11 +79,15 @@ impl Incidence {
         }
         let mut fill = count.clone();
         self.pairs.clear();
-        self.pairs.resize(list.pairs.len() * 2, (0, false));
+        assert!(
+            list.pairs.len() < SIDE_B as usize,
+            "fewer than 2^31 candidate pairs"
+        );
+        self.pairs.resize(list.pairs.len() * 2, 0);
         for (k, &(i, j)) in list.pairs.iter().enumerate() {
-            for (b, a_side) in [(i, true), (j, false)] {
+            for (b, side) in [(i, 0), (j, SIDE_B)] {
                 let at = &mut fill[b as usize];
-                self.pairs[*at as usize] = (k as u32, a_side);
+                self.pairs[*at as usize] = k as u32 | side;
                 *at += 1;
             }
         }
@@ -251,7 +259,8 @@ impl Slots {
                     }
                 }
                 let range = inc.start[b] as usize..inc.start[b + 1] as usize;
-                for &(c, a_side) in &inc.pairs[range] {
+                for &entry in &inc.pairs[range] {
+                    let (c, a_side) = (entry & !SIDE_B, entry & SIDE_B == 0);
                     let s = pair_slot[c as usize];
                     if s == NONE {
                         continue;
