@@ -8,7 +8,7 @@ mod common;
 use common::*;
 use fibresim::integrate::rotate::RotatorKind;
 use fibresim::math::geodesic_angle;
-use fibresim::scenario::{SimParams, Scene};
+use fibresim::scenario::{Scene, SimParams};
 
 /// `split` over `steps` steps of `dt`: the largest orientation error against
 /// the scene's closed form, sampled every 10⁴ steps, and the final relative
@@ -42,13 +42,19 @@ fn split_free_flight(scene: &Scene, dt: f64, steps: u64) -> (f64, f64, f64) {
 /// precessing fibre (closed-form flow, 10 s at 1e-5 s).
 #[test]
 fn split_is_exact_over_a_million_free_steps() {
-    for (file, dt) in [("asymmetric_top.toml", 1e-4), ("precessing_fibre.toml", 1e-5)] {
+    for (file, dt) in [
+        ("asymmetric_top.toml", 1e-4),
+        ("precessing_fibre.toml", 1e-5),
+    ] {
         let scene = scene_file(file);
         let (worst, de, dl) = split_free_flight(&scene, dt, 1_000_000);
         println!("split, {file}, 1e6 steps of {dt:e} s: largest error {worst:.2e} rad, energy {de:.1e}, |L| {dl:.1e} (relative)");
         assert!(worst <= 1e-12, "{file}: {worst:e} rad");
         // ω is derived from q each step, so energy and |L| carry q's rounding.
-        assert!(de < 1e-11 && dl < 1e-11, "{file}: energy {de:e}, |L| {dl:e}");
+        assert!(
+            de < 1e-11 && dl < 1e-11,
+            "{file}: energy {de:e}, |L| {dl:e}"
+        );
     }
 }
 
@@ -63,11 +69,18 @@ fn round_trip(kind: RotatorKind, dt: f64, n: u64) -> f64 {
     // their distance rather than stop them.
     scene.guards.energy_error_pct = f64::INFINITY;
     let start = scene.initial[0].rot;
-    let there = fibresim::run::integrate_observed(&scene, |_| {}).unwrap().states[0].rot;
+    let there = fibresim::run::integrate_observed(&scene, |_| {})
+        .unwrap()
+        .states[0]
+        .rot;
     scene.initial[0].rot.q = there.q;
     scene.initial[0].rot.omega_b = -there.omega_b;
-    let back = fibresim::run::integrate_observed(&scene, |_| {}).unwrap().states[0].rot;
-    geodesic_angle(back.q, start.q) + (back.omega_b + start.omega_b).length() / start.omega_b.length()
+    let back = fibresim::run::integrate_observed(&scene, |_| {})
+        .unwrap()
+        .states[0]
+        .rot;
+    geodesic_angle(back.q, start.q)
+        + (back.omega_b + start.omega_b).length() / start.omega_b.length()
 }
 
 /// `RotatorInfo::reversible` holds: a reversible scheme returns to rounding

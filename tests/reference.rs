@@ -65,7 +65,10 @@ fn closed_form_against_rk4(scene: &Scene, dt: f64) -> (f64, f64) {
     };
     for ((t, q, w), (_, q2, _)) in fine.iter().zip(&coarse) {
         rk4_err = rk4_err.max(geodesic_angle(*q, *q2) / 15.0);
-        worst_q = worst_q.max(geodesic_angle(reference.orientation(*t, DQuat::IDENTITY), *q));
+        worst_q = worst_q.max(geodesic_angle(
+            reference.orientation(*t, DQuat::IDENTITY),
+            *q,
+        ));
         worst_w = worst_w.max((omega(*t) - *w).length() / w.length());
     }
     assert!(rk4_err < 1e-13, "the rk4 check is not tight: {rk4_err:e}");
@@ -114,7 +117,11 @@ fn manufactured_solution_is_the_motion_its_torque_drives() {
         let dq = (m.orientation(t + h) - m.orientation(t - h)) * (1.0 / (2.0 * h));
         let w = m.orientation(t).conjugate() * dq * 2.0;
         let fd = DVec3::new(w.x, w.y, w.z);
-        assert!((fd - m.omega_body(t)).length() < 1e-6 * fd.length(), "{fd} vs {}", m.omega_body(t));
+        assert!(
+            (fd - m.omega_body(t)).length() < 1e-6 * fd.length(),
+            "{fd} vs {}",
+            m.omega_body(t)
+        );
     }
 }
 
@@ -132,14 +139,22 @@ fn dzhanibekov_flip_period() {
     println!("flip period 2K/lambda = {period:.12} s");
     // rk4 over one period, 2^15 steps (the step error is ~1e-14 rad).
     let mut s = scene.clone();
-    s.sim = fibresim::scenario::SimParams::with_steps(period / 32768.0, 32768, RotatorKind::Rk4, None)
-        .unwrap();
-    let end = fibresim::run::integrate_observed(&s, |_| {}).unwrap().states[0].rot.omega_b;
+    s.sim =
+        fibresim::scenario::SimParams::with_steps(period / 32768.0, 32768, RotatorKind::Rk4, None)
+            .unwrap();
+    let end = fibresim::run::integrate_observed(&s, |_| {})
+        .unwrap()
+        .states[0]
+        .rot
+        .omega_b;
     let w0 = scene.initial[0].rot.omega_b;
     // Here the working frame is (x, y, z) with y intermediate: x and y flip.
     let want = DVec3::new(-w0.x, -w0.y, w0.z);
     println!("omega after one period {end}, expected {want}");
-    assert!((end - want).length() < 1e-9 * w0.length(), "{end} vs {want}");
+    assert!(
+        (end - want).length() < 1e-9 * w0.length(),
+        "{end} vs {want}"
+    );
 
     // The flips of body y in a split run (zero crossings of ω_y, linearly
     // interpolated) are one period apart.
@@ -152,7 +167,14 @@ fn dzhanibekov_flip_period() {
     assert!(crossings.len() >= 6, "{crossings:?}");
     for pair in crossings.windows(2) {
         let gap = pair[1] - pair[0];
-        assert!((gap - period).abs() < 1e-6 * period, "flips {pair:?}: {gap} s vs {period} s");
+        assert!(
+            (gap - period).abs() < 1e-6 * period,
+            "flips {pair:?}: {gap} s vs {period} s"
+        );
     }
-    println!("{} flips, every {:.9} s", crossings.len(), (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64);
+    println!(
+        "{} flips, every {:.9} s",
+        crossings.len(),
+        (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64
+    );
 }

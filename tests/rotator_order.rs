@@ -27,7 +27,12 @@ fn every_listed_rotator_has_its_stated_order() {
             let expected = case.expected_order(kind);
             if expected == 0 {
                 let worst = m.errors.iter().cloned().fold(0.0, f64::max);
-                println!("{:<14} {:<12} exact: largest error {worst:.2e} rad over dt {:?}", case.name, kind.name(), case.dts);
+                println!(
+                    "{:<14} {:<12} exact: largest error {worst:.2e} rad over dt {:?}",
+                    case.name,
+                    kind.name(),
+                    case.dts
+                );
                 assert!(worst < 1e-12, "{kind} on {}: {worst:e} rad", case.name);
                 continue;
             }

@@ -85,7 +85,12 @@ pub fn jacobi(u: f64, m: f64, m1: f64) -> Jacobi {
     // than cn does (absolute). A&S 16.4.4's cos φ₀ / cos(φ₁ − φ₀) is 0/0 at
     // u = K near the separatrix.
     let dn = (m1 + m * cn * cn).sqrt();
-    Jacobi { sn, cn, dn, am: phi }
+    Jacobi {
+        sn,
+        cn,
+        dn,
+        am: phi,
+    }
 }
 
 /// The complete integral `K(m) = π / (2 AGM(1, √m1))` (DLMF 19.8.5).
@@ -111,13 +116,12 @@ pub fn complete_k(m1: f64) -> f64 {
 pub fn carlson_rf(x: f64, y: f64, z: f64) -> f64 {
     let (mut x, mut y, mut z) = (x, y, z);
     let a0 = (x + y + z) / 3.0;
-    let q = (3.0 * TOL).powf(-1.0 / 6.0)
-        * (a0 - x).abs().max((a0 - y).abs()).max((a0 - z).abs());
+    let q = (3.0 * TOL).powf(-1.0 / 6.0) * (a0 - x).abs().max((a0 - y).abs()).max((a0 - z).abs());
     let (x0, y0) = (x, y);
     let mut a = a0;
     let mut fac = 1.0; // 4^-m
-    // Each pass divides the spread by 4; 60 passes exceed any f64 range,
-    // and end the loop on invalid (NaN, infinite) arguments.
+                       // Each pass divides the spread by 4; 60 passes exceed any f64 range,
+                       // and end the loop on invalid (NaN, infinite) arguments.
     for _ in 0..60 {
         if fac * q < a.abs() {
             break;
@@ -277,7 +281,7 @@ mod tests {
             0.960_289_856_497_536_3,
         ];
         const W: [f64; 4] = [
-            0.362_683_783_378_362_0,
+            0.362_683_783_378_362,
             0.313_706_645_877_887_3,
             0.222_381_034_453_374_5,
             0.101_228_536_290_376_3,
@@ -361,7 +365,10 @@ mod tests {
             let m = 1.0 - m1;
             let l = Legendre::new(m, m1, 0.0);
             let j = jacobi(l.k, m, m1);
-            worst = worst.max((j.sn - 1.0).abs()).max(j.cn.abs()).max((j.dn - m1.sqrt()).abs());
+            worst = worst
+                .max((j.sn - 1.0).abs())
+                .max(j.cn.abs())
+                .max((j.dn - m1.sqrt()).abs());
             for i in -40..=40 {
                 let u = 0.37 * i as f64;
                 let j = jacobi(u, m, m1);
@@ -373,7 +380,8 @@ mod tests {
                     .max((l.f(j.am) - u).abs() * j.dn / u.abs().max(1.0));
                 let h = 1e-3;
                 let am = |v: f64| jacobi(v, m, m1).am;
-                let d = (45.0 * (am(u + h) - am(u - h)) - 9.0 * (am(u + 2.0 * h) - am(u - 2.0 * h))
+                let d = (45.0 * (am(u + h) - am(u - h))
+                    - 9.0 * (am(u + 2.0 * h) - am(u - 2.0 * h))
                     + (am(u + 3.0 * h) - am(u - 3.0 * h)))
                     / (60.0 * h);
                 // The difference quotient itself errs by ~1e-13 (rounding / h).

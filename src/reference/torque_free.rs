@@ -139,8 +139,11 @@ impl Polhode {
         let m1 = (j.z - j.x) * d2 / ((j.z - j.y) * d1);
         let n = 1.0 - j.y * (j.z - j.x) / (j.x * (j.z - j.y));
         let positive = |v: f64| v > 0.0 && v.is_finite();
-        if !(amp.to_array().into_iter().all(positive) && positive(lambda) && positive(m1))
-            || !(m.is_finite() && n.is_finite())
+        if !(amp.to_array().into_iter().all(positive)
+            && positive(lambda)
+            && positive(m1)
+            && m.is_finite()
+            && n.is_finite())
         {
             return None;
         }
@@ -166,7 +169,11 @@ impl Polhode {
     /// Body components in the working frame.
     #[inline]
     pub fn to_working(&self, l_b: DVec3) -> DVec3 {
-        DVec3::new(l_b[self.axes[0]], l_b[self.axes[1]], self.sigma3 * l_b[self.axes[2]])
+        DVec3::new(
+            l_b[self.axes[0]],
+            l_b[self.axes[1]],
+            self.sigma3 * l_b[self.axes[2]],
+        )
     }
 
     /// Working components in the body frame.
@@ -367,7 +374,9 @@ impl TorqueFree {
                 // L_b turns backwards about the symmetry axis at rate ν.
                 DQuat::from_axis_angle(*axis, -spin * t) * self.l_b0
             }
-            Motion::Asymmetric { polhode: p, u0, .. } => p.to_body(p.momentum(&p.at(u0 + p.lambda * t))),
+            Motion::Asymmetric { polhode: p, u0, .. } => {
+                p.to_body(p.momentum(&p.at(u0 + p.lambda * t)))
+            }
         };
         l_b / self.inertia
     }

@@ -168,7 +168,8 @@ fn manufactured(
     needs_contacts: bool,
 ) -> Result<ClosedForm> {
     single_free_body(cx, "manufactured", bodies, needs_contacts)?;
-    let (Some(u), Some(v), Some(p), Some(s)) = (r.precession_axis, r.spin_axis, r.precession, r.spin)
+    let (Some(u), Some(v), Some(p), Some(s)) =
+        (r.precession_axis, r.spin_axis, r.precession, r.spin)
     else {
         unreachable!("the keys were checked")
     };

@@ -177,7 +177,12 @@ pub fn asymmetric_top() -> OrderCase {
 
 /// The cases every rotator's listed order is checked on.
 pub fn cases() -> Vec<OrderCase> {
-    vec![test_case_4(), smooth_torque(), manufactured(), asymmetric_top()]
+    vec![
+        test_case_4(),
+        smooth_torque(),
+        manufactured(),
+        asymmetric_top(),
+    ]
 }
 
 fn final_orientation(scene: &Scene, kind: RotatorKind, dt: f64) -> Result<glam::DQuat, Diagnosis> {
