@@ -34,6 +34,28 @@ fn dome(r: f64) -> (f64, f64, f64) {
     (big_r, big_r * (1.0 - cos_c), cos_c)
 }
 
+/// Cosine of the dome's half-angle θc: a direction `d` is supported by the
+/// cap of end `σ` iff `σ d·a ≥ dome_cos()`.
+#[inline]
+pub(super) fn dome_cos() -> f64 {
+    dome(1.0).2
+}
+
+/// Centre of the sphere whose cap is the dome of end `sigma` (radius
+/// `r/`[`END_FACE_DOME_SIN`], on the axis, inside the fibre): the cap point in
+/// the direction `n` is `dome_centre + R n` ([`support_branch`]).
+#[inline]
+pub(super) fn dome_centre(f: &FibreGeom, sigma: f64) -> DVec3 {
+    let (big_r, sag, _) = dome(f.radius);
+    f.centre + (sigma * (f.half_length + sag - big_r)) * f.axis
+}
+
+/// Radius of the end-face dome's sphere, `r/`[`END_FACE_DOME_SIN`].
+#[inline]
+pub(super) fn dome_radius(r: f64) -> f64 {
+    dome(r).0
+}
+
 /// Sag of the end-face dome ([`END_FACE_DOME_SIN`]) of a fibre of radius
 /// `r`: the largest amount by which the end-involved depth over-estimates
 /// the flat cylinders' one, per face in contact.
