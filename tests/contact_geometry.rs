@@ -237,7 +237,10 @@ fn parallel_side_by_side_is_two_point_line_contact() {
     assert!(close(u, u_ref, 1e-12 * u_ref));
     // Against the plain two-point model 2F(δ0): second order in ε/δ0.
     let two_point = 2.0 * law.force(d0);
-    assert!((f_ref - two_point).abs() < 0.01 * two_point, "{f_ref} {two_point}");
+    assert!(
+        (f_ref - two_point).abs() < 0.01 * two_point,
+        "{f_ref} {two_point}"
+    );
     // Shifted by L/4 along x: points at the ends of the overlap [−H/2, H].
     let b2 = fib(DVec3::new(H / 2.0, 2.0 * R - d0, 0.0), -DVec3::X);
     let c2 = ff_contacts(&a, &b2);
@@ -330,7 +333,11 @@ fn scissored_parallel_pair_rocks_smoothly() {
         "scissored pair rocked through 0: largest torque step {:.1e} F L/2, worst gradient mismatch {worst_fd:.1e}",
         worst_step / (fmax * H)
     );
-    assert!(worst_step / (fmax * H) < 1e-2, "{}", worst_step / (fmax * H));
+    assert!(
+        worst_step / (fmax * H) < 1e-2,
+        "{}",
+        worst_step / (fmax * H)
+    );
     assert!(worst_fd < 1e-4, "{worst_fd}");
 }
 

@@ -259,7 +259,10 @@ fn end_involved_contacts_match_brute_force_oracle() {
     // confirmed by a separating axis.
     assert!(counters.end_scans > 0);
     assert_eq!(counters.parry_calls, counters.fallbacks);
-    assert!(counters.fallbacks * 100 <= counters.end_scans, "{counters:?}");
+    assert!(
+        counters.fallbacks * 100 <= counters.end_scans,
+        "{counters:?}"
+    );
     assert_eq!(counters.parry_unconfirmed, 0);
 }
 

@@ -246,7 +246,7 @@ fn push_wrench(
 /// Push a candidate contact with weight `weight` (and the weight's couple
 /// gradient `weight_grad`) if it is touching.
 #[inline]
-fn push_weighted(out: &mut Vec<ContactPoint>, c: Cand, weight: f64, weight_grad: DVec3) {
+pub(super) fn push_weighted(out: &mut Vec<ContactPoint>, c: Cand, weight: f64, weight_grad: DVec3) {
     if c.depth > 0.0 && weight > 0.0 {
         out.push(ContactPoint {
             point: c.point,

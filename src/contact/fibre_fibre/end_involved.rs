@@ -9,7 +9,7 @@
 //! (tied minima blended) and [`axial_escape`]; [`Scan`] is the one pass all
 //! three share.
 
-use super::blend::{smooth_min_c2, Blend, END_TIE_BAND};
+use super::blend::{push_weighted, smooth_min_c2, Blend, END_TIE_BAND};
 use super::features::{face_centre, face_face, face_side, rim_face, rim_rim, rim_side, Stationary};
 use super::parry_check::{confirm_separated, parry_contact};
 use super::search::{self, SAME_MINIMUM_COS};
@@ -17,7 +17,7 @@ use super::segment::segment_closest_params;
 use super::side_side::closest_point_contact;
 use super::support::{dome_sag, domed_projection_overlap as pov, sig, support};
 use super::Cand;
-use crate::contact::{FibreGeom, KernelCounters};
+use crate::contact::{ContactPoint, FibreGeom, KernelCounters};
 use glam::DVec3;
 
 /// A feature candidate this close to the best value (relative to the
@@ -82,9 +82,10 @@ impl<'g> Scan<'g> {
             any_near: false,
             reach: bound + sag_a + sag_b + END_TIE_BAND,
         };
-        // Cheap axes first: most near misses of the capsules are separated
+        // Cheap axes first (the closest-point line, the centre line, the
+        // common normal): most near misses of the capsules are separated
         // along one of them.
-        for d in [cp, a.centre - b.centre, a.axis.cross(b.axis), a.axis, b.axis] {
+        for d in [cp, a.centre - b.centre, a.axis.cross(b.axis)] {
             scan.axis(d);
             if stop_at_separation && scan.best <= 0.0 {
                 return scan;
@@ -96,23 +97,27 @@ impl<'g> Scan<'g> {
         // An end can hold a minimum only if its disc lies within `reach`
         // of the other body: a stationary value is ±|p_A − p_B| with both
         // supports on the surfaces (docs/contacts.md, "End-involved kernels").
-        let near = |f: &FibreGeom, sigma: f64, sag: f64, o: &FibreGeom| {
+        let lb = |f: &FibreGeom, sigma: f64, sag: f64, o: &FibreGeom| {
             let e = face_centre(f, sigma);
-            let t = o.axis.dot(e - o.centre).clamp(-o.half_length, o.half_length);
-            (e - o.centre - t * o.axis).length() - f.radius - sag - o.radius <= scan.reach
+            let t = o
+                .axis
+                .dot(e - o.centre)
+                .clamp(-o.half_length, o.half_length);
+            (e - o.centre - t * o.axis).length() - f.radius - sag - o.radius
         };
-        let near_a = [1.0, -1.0].map(|sg| near(a, sg, sag_a, b));
-        let near_b = [1.0, -1.0].map(|sg| near(b, sg, sag_b, a));
-        scan.any_near = near_a.iter().chain(&near_b).any(|&x| x);
-        // Ends first (their rim–side points seed rim–rim), then end pairs.
+        let lb_a = [1.0, -1.0].map(|sg| lb(a, sg, sag_a, b));
+        let lb_b = [1.0, -1.0].map(|sg| lb(b, sg, sag_b, a));
+        scan.any_near = lb_a.iter().chain(&lb_b).any(|&x| x <= scan.reach);
+        // Ends first (their values tighten `reach`, their rim–side points
+        // seed rim–rim), then the end pairs still within reach.
         let mut rim_a = [None; 2];
         let mut rim_b = [None; 2];
         for (i, sg) in [1.0, -1.0].into_iter().enumerate() {
-            if near_a[i] {
+            if lb_a[i] <= scan.reach {
                 scan.feature(face_side(a, sg, b), false);
                 rim_a[i] = scan.feature(rim_side(a, sg, b), false);
             }
-            if near_b[i] {
+            if lb_b[i] <= scan.reach {
                 scan.feature(face_side(b, sg, a), true);
                 rim_b[i] = scan.feature(rim_side(b, sg, a), true);
             }
@@ -120,34 +125,39 @@ impl<'g> Scan<'g> {
         if stop_at_separation && scan.best <= 0.0 {
             return scan;
         }
+        scan.reach = scan.reach.min(scan.best.max(0.0) + END_TIE_BAND);
         for (i, sa) in [1.0, -1.0].into_iter().enumerate() {
             for (j, sb) in [1.0, -1.0].into_iter().enumerate() {
-                if !(near_a[i] && near_b[j]) {
+                if !(lb_a[i] <= scan.reach && lb_b[j] <= scan.reach) {
                     continue;
                 }
                 scan.feature(face_face(a, sa, b, sb), false);
                 scan.feature(rim_face(a, sa, b, sb), false);
                 scan.feature(rim_face(b, sb, a, sa), true);
-                scan.feature(
-                    rim_rim(a, sa, b, sb, [rim_a[i], rim_b[j]], scan.reach),
-                    false,
-                );
+                let hints = [rim_a[i], rim_b[j]];
+                scan.feature(rim_rim(a, sa, b, sb, hints, scan.reach), false);
             }
         }
         scan
     }
 
-    /// A cheap axis `d` (either sign): an upper bound, no minimum.
+    /// A cheap axis `±d`: an upper bound, no minimum. Of the two signs only
+    /// the one pointing from B's centre towards A's is evaluated: for
+    /// centrally symmetric bodies `h(n) − h(−n) = 2 n·c`, so
+    /// `pov(n) − pov(−n) = 2 n·(c_B − c_A)`, and that sign is the lower.
     fn axis(&mut self, d: DVec3) {
         let l = d.length();
         if !(l > 1e-300 && l.is_finite()) {
             return;
         }
-        for n in [d / l, -d / l] {
-            let v = pov(self.a, self.b, n);
-            if v < self.best {
-                (self.best, self.best_n, self.certified) = (v, n, false);
-            }
+        let n = if d.dot(self.a.centre - self.b.centre) >= 0.0 {
+            d / l
+        } else {
+            -d / l
+        };
+        let v = pov(self.a, self.b, n);
+        if v < self.best {
+            (self.best, self.best_n, self.certified) = (v, n, false);
         }
     }
 
@@ -232,15 +242,16 @@ pub(super) fn penetration(
     }
 }
 
-/// The end-involved contact of `a` and `b` with its ties smoothed, `None`
-/// when apart: [`penetration`]'s minimum `δ1` and, when the lowest *other*
+/// The end-involved contacts of `a` and `b` with their ties smoothed,
+/// pushed to `out` with the overall `weight` (none when apart): [`penetration`]'s minimum `δ1` and, when the lowest *other*
 /// local minimum `δ2` (a different escape direction) is within
 /// [`END_TIE_BAND`] of it, their C² smooth minimum `m(δ1, δ2)`
 /// ([`smooth_min_c2`]), pushed as two contacts (one per minimum, its own
 /// normal and point) at depth `m` with weights `∂m/∂δ_i` (summing to 1):
 /// energy `U(m)`, forces its exact gradient (each minimum's by the envelope
 /// theorem). The weights depend on the pose only through `δ1, δ2` and sum to
-/// 1, so they carry no `ContactPoint::weight_grad`. C², not C¹: leap-frog's
+/// 1, so they carry no `ContactPoint::weight_grad` of their own (the
+/// caller's `weight` and `weight_grad` multiply them). C², not C¹: leap-frog's
 /// energy error follows the curvature of the potential (docs/contacts.md,
 /// "Ties"). When the scan is unsure, parry (checked) seeds the iterative
 /// search instead (seeded also by the closest-point normal), counted in
@@ -248,36 +259,40 @@ pub(super) fn penetration(
 pub(super) fn penetration_smoothed(
     a: &FibreGeom,
     b: &FibreGeom,
+    out: &mut Vec<ContactPoint>,
+    weight: f64,
+    weight_grad: DVec3,
     counters: &mut KernelCounters,
-) -> Option<Blend> {
+) {
     counters.end_scans += 1;
     let scan = Scan::run(a, b, true);
-    let (best, best_n, runner_up) = match scan.verdict() {
-        Verdict::Separated => return None,
-        Verdict::Touching => (scan.best, scan.best_n, scan.runner_up()),
+    match scan.verdict() {
+        Verdict::Separated => {}
+        Verdict::Touching => {
+            let first = contact_along(a, b, scan.best_n, scan.best);
+            match scan.runner_up() {
+                Some((v, n)) if v - scan.best < END_TIE_BAND => {
+                    let other = Blend::single(contact_along(a, b, n, v));
+                    Blend::single(first)
+                        .smin_by(other, |x, y| smooth_min_c2(x, y, END_TIE_BAND))
+                        .push(out, a, weight, weight_grad);
+                }
+                _ => push_weighted(out, first, weight, weight_grad),
+            }
+        }
         Verdict::Unsure => {
             counters.fallbacks += 1;
-            return fallback_smoothed(a, b, counters);
+            if let Some(blend) = fallback_smoothed(a, b, counters) {
+                blend.push(out, a, weight, weight_grad);
+            }
         }
-    };
-    let first = Blend::single(contact_along(a, b, best_n, best));
-    Some(match runner_up {
-        Some((v, n)) if v - best < END_TIE_BAND => {
-            let other = Blend::single(contact_along(a, b, n, v));
-            first.smin_by(other, |x, y| smooth_min_c2(x, y, END_TIE_BAND))
-        }
-        _ => first,
-    })
+    }
 }
 
 /// The iterative search of the previous kernel (search.rs), seeded by
 /// parry's checked normal; parry's "no contact" is confirmed by a
 /// separating axis.
-fn fallback_smoothed(
-    a: &FibreGeom,
-    b: &FibreGeom,
-    counters: &mut KernelCounters,
-) -> Option<Blend> {
+fn fallback_smoothed(a: &FibreGeom, b: &FibreGeom, counters: &mut KernelCounters) -> Option<Blend> {
     let (s, t) = segment_closest_params(a, b);
     let cp_normal = closest_point_contact(a, b, s, t).normal;
     let bound = a.radius + b.radius - (a.centre + s * a.axis - b.centre - t * b.axis).length();

@@ -38,10 +38,10 @@ pub use segment::segment_closest_params;
 pub use support::{dome_sag, domed_projection_overlap, projection_overlap, END_FACE_DOME_SIN};
 
 use super::{ContactPoint, FibreGeom, KernelCounters};
-use glam::DVec3;
 use end_involved::penetration_smoothed;
+use glam::DVec3;
 use segment::axial_overlap;
-use side_side::side_side;
+use side_side::{side_side, SideSide};
 
 /// Below this |sin| of the inter-axis angle a pair counts as parallel for the
 /// line-contact treatment (≈ 2°).
@@ -122,43 +122,44 @@ pub fn contact_fibre_fibre(
 
     // 1. Near-coaxial end to end.
     if sin < COAXIAL_SIN && end_to_end(a, b) {
-        if let Some(c) = penetration_smoothed(a, b, counters) {
-            c.push(out, a, 1.0, DVec3::ZERO);
-        }
+        penetration_smoothed(a, b, out, 1.0, DVec3::ZERO, counters);
         return;
     }
 
-    // 2. Side–side.
+    // 2. Side–side (the axial overlap of the segments, measured along A,
+    // only for non-interior near-parallel pairs).
     let interior = s.abs() < a.half_length && t.abs() < b.half_length;
-    // Axial overlap of the segments, measured along A.
-    let axial_len = axial_overlap(a, b).len;
-    // Parallel blend: potential U(δ_main) + w·U(δ_2) when interior, else
-    // w·(U(δ_main) + U(δ_2)) + (1 − w)·U(δ_pd) (regime 3's depth), so
-    // the second contact and the model switch fade in/out continuously.
-    let (w_par, w_grad) = parallel_weight(a, b, sin);
     let mut w_side = 0.0;
-    if interior || (sin < PARALLEL_SIN && axial_len > 0.0) {
-        let (main, second) = side_side(a, b, s, t, counters);
-        second.push(out, a, w_par, w_grad);
-        if interior {
-            main.push(out, a, 1.0, DVec3::ZERO);
+    let mut w_grad = DVec3::ZERO;
+    if interior || (sin < PARALLEL_SIN && axial_overlap(a, b).len > 0.0) {
+        let line = side_side(a, b, s, t, counters);
+        if let SideSide::Crossing(_) = line {
+            line.push(out, a, (1.0, DVec3::ZERO), (0.0, DVec3::ZERO));
             return;
         }
-        main.push(out, a, w_par, w_grad);
-        if w_par >= 1.0 {
+        // Parallel blend: potential U(δ_main) + w·U(δ_2) when interior,
+        // else w·(U(δ_main) + U(δ_2)) + (1 − w)·U(δ_pd) (regime 3's depth),
+        // so the second contact and the model switch fade in/out
+        // continuously.
+        let (w_par, g_par) = parallel_weight(a, b, sin);
+        w_grad = g_par;
+        let main = if interior {
+            (1.0, DVec3::ZERO)
+        } else {
+            (w_par, w_grad)
+        };
+        line.push(out, a, main, (w_par, w_grad));
+        if interior || w_par >= 1.0 {
             return;
         }
         w_side = w_par;
     }
 
     // 3. End involved: the feature-pair kernels near the contact.
-    let Some(c) = penetration_smoothed(a, b, counters) else {
-        return;
-    };
     let (w_pd, g_pd) = if w_side > 0.0 {
         (1.0 - w_side, -w_grad)
     } else {
         (1.0, DVec3::ZERO)
     };
-    c.push(out, a, w_pd, g_pd);
+    penetration_smoothed(a, b, out, w_pd, g_pd, counters);
 }

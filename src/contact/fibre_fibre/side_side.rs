@@ -4,13 +4,13 @@
 //! pair, and the axial escape of near-parallel pairs whose ends slide past
 //! each other. Model and limits: docs/contacts.md, "Side–side".
 
-use super::blend::{Blend, Wrench, TIE_BAND};
+use super::blend::{push_weighted, smooth_min, Blend, Wrench, TIE_BAND};
 use super::end_involved::{axial_escape, penetration};
 use super::features::rim_point_nearest_line;
 use super::segment::axial_overlap;
 use super::support::sig;
 use super::{Cand, PARALLEL_SIN};
-use crate::contact::{FibreGeom, KernelCounters};
+use crate::contact::{ContactPoint, FibreGeom, KernelCounters};
 use glam::DVec3;
 
 /// Two candidate contacts whose normals are closer than this (cos 0.1 rad)
@@ -130,6 +130,68 @@ pub(super) fn closest_point_contact(a: &FibreGeom, b: &FibreGeom, s: f64, t: f64
     }
 }
 
+/// What the side–side model gives.
+pub(super) enum SideSide {
+    /// A crossing whose overlap ends do not touch: one point, weight 1.
+    Crossing(Cand),
+    /// The line model of the overlap's ends `lo`, `hi` (and the crossing
+    /// `cp` when the closest points are interior), pushed with weights in
+    /// closed form by [`SideSide::push`] (no [`Blend`] needed).
+    Line {
+        cp: Option<Cand>,
+        lo: Cand,
+        hi: Cand,
+    },
+    /// `(main, second)` of the axial escape.
+    Escape(Blend, Blend),
+}
+
+impl SideSide {
+    /// Push the main contact with `main_weight` (and its couple
+    /// `main_grad`) and the second with `second_weight` (`second_grad`).
+    pub(super) fn push(
+        self,
+        out: &mut Vec<ContactPoint>,
+        a: &FibreGeom,
+        (main_weight, main_grad): (f64, DVec3),
+        (second_weight, second_grad): (f64, DVec3),
+    ) {
+        let part =
+            |out: &mut Vec<ContactPoint>, c: Cand, depth: f64, w: f64, (wt, g): (f64, DVec3)| {
+                if w > 0.0 {
+                    push_weighted(out, Cand { depth, ..c }, w * wt, w * g);
+                }
+            };
+        match self {
+            SideSide::Crossing(c) => push_weighted(out, c, main_weight, main_grad),
+            SideSide::Line { cp, lo, hi } => {
+                // δ_2 = smin(δ_lo, δ_hi); S = smax = −smin(−δ_lo, −δ_hi).
+                let (m, wl, wh) = smooth_min(lo.depth, hi.depth, TIE_BAND);
+                part(out, lo, m, wl, (second_weight, second_grad));
+                part(out, hi, m, wh, (second_weight, second_grad));
+                let (neg_s, sl, sh) = smooth_min(-lo.depth, -hi.depth, TIE_BAND);
+                let (depth, wc, ws) = match cp {
+                    Some(cp) => {
+                        let (neg, wc, ws) = smooth_min(-cp.depth, neg_s, CROSSING_BAND);
+                        (-neg, wc, ws)
+                    }
+                    None => (-neg_s, 0.0, 1.0),
+                };
+                let main = (main_weight, main_grad);
+                if let Some(cp) = cp {
+                    part(out, cp, depth, wc, main);
+                }
+                part(out, lo, depth, ws * sl, main);
+                part(out, hi, depth, ws * sh, main);
+            }
+            SideSide::Escape(main, second) => {
+                second.push(out, a, second_weight, second_grad);
+                main.push(out, a, main_weight, main_grad);
+            }
+        }
+    }
+}
+
 /// Width of the smooth maximum of the crossing and the line contact's
 /// ends (m): below the ε/4 by which the ends' smooth maximum exceeds their
 /// plain maximum at a tie, so an exactly parallel pair (crossing depth =
@@ -173,28 +235,62 @@ const CROSSING_BAND: f64 = TIE_BAND / 8.0;
 /// rocking kink (measure zero). Why each piece: docs/contacts.md,
 /// "Side–side".
 ///
-/// Returns `(main, second)`; the caller weights the second contact (and,
-/// outside the interior case, the main one) by the parallel blend weight.
-/// `counters` counts the end-involved scans of the escape.
+/// Returns the crossing alone (one point, weight 1) when the overlap's
+/// ends do not touch, else `(main, second)`: the caller weights the second
+/// contact (and, outside the interior case, the main one) by the parallel
+/// blend weight. `counters` counts the end-involved scans of the escape.
 pub(super) fn side_side(
     a: &FibreGeom,
     b: &FibreGeom,
     s: f64,
     t: f64,
     counters: &mut KernelCounters,
-) -> (Blend, Blend) {
+) -> SideSide {
     let cp = closest_point_contact(a, b, s, t);
+    let interior = s.abs() < a.half_length && t.abs() < b.half_length;
+    // The common crossing, decided before any end model: no end disc
+    // within the capsule reach of the other axis (so δ_lo, δ_hi ≤ 0, see
+    // below) and the crossing deep enough to beat their smooth maximum.
+    if interior && cp.depth >= 0.25 * TIE_BAND + CROSSING_BAND {
+        let clear = |f: &FibreGeom, o: &FibreGeom, sign: f64| {
+            let e = f.centre + sign * f.half_length * f.axis;
+            let t = o
+                .axis
+                .dot(e - o.centre)
+                .clamp(-o.half_length, o.half_length);
+            let reach = f.radius + o.radius;
+            (e - o.centre - t * o.axis).length_squared() >= reach * reach
+        };
+        if clear(a, b, 1.0) && clear(a, b, -1.0) && clear(b, a, 1.0) && clear(b, a, -1.0) {
+            return SideSide::Crossing(cp);
+        }
+    }
     let sb = sig(a.axis, b.axis);
     let lo = deeper(a_end(a, b, -1.0), b_end(a, b, -sb));
     let hi = deeper(a_end(a, b, 1.0), b_end(a, b, sb));
-    let interior = s.abs() < a.half_length && t.abs() < b.half_length;
+    // A crossing whose overlap ends do not touch: the smooth min of the
+    // ends is then ≤ 0 and the crossing beats their smooth max (≤ max +
+    // ε/4) by more than its band, so the model is exactly one point.
+    if interior
+        && lo.depth <= 0.0
+        && hi.depth <= 0.0
+        && cp.depth >= lo.depth.max(hi.depth) + 0.25 * TIE_BAND + CROSSING_BAND
+    {
+        return SideSide::Crossing(cp);
+    }
+    let line = SideSide::Line {
+        cp: interior.then_some(cp),
+        lo,
+        hi,
+    };
     let (lo_b, hi_b) = (Blend::single(lo), Blend::single(hi));
-    let second = lo_b.smin(hi_b);
-    let ends = lo_b.smax(hi_b, TIE_BAND);
-    let first = if interior {
-        Blend::single(cp).smax(ends, CROSSING_BAND)
-    } else {
-        ends
+    let first_depth = {
+        let ends = -smooth_min(-lo.depth, -hi.depth, TIE_BAND).0;
+        if interior {
+            -smooth_min(-cp.depth, -ends, CROSSING_BAND).0
+        } else {
+            ends
+        }
     };
     let sin = a.axis.cross(b.axis).length();
     let ell = axial_overlap(a, b);
@@ -202,11 +298,19 @@ pub(super) fn side_side(
     // minimum below is active there (ℓ − δ_pd ≥ δ_main + ε ≥ δ_2 + ε,
     // and the axial escape is ~ℓ).
     if !(sin < PARALLEL_SIN
-        && first.depth > 0.0
-        && ell.len < 2.0 * first.depth + TIE_BAND + (a.radius + b.radius) * sin)
+        && first_depth > 0.0
+        && ell.len < 2.0 * first_depth + TIE_BAND + (a.radius + b.radius) * sin)
     {
-        return (first, second);
+        return line;
     }
+    // The escape (rare: ends sliding past each other) composes Blends.
+    let second = lo_b.smin(hi_b);
+    let ends = lo_b.smax(hi_b, TIE_BAND);
+    let first = if interior {
+        Blend::single(cp).smax(ends, CROSSING_BAND)
+    } else {
+        ends
+    };
     // The sideways contact's direction (its deepest candidate) seeds the
     // fallback and tells whether the axial escape found the same contact.
     let big = if hi.depth > lo.depth { hi } else { lo };
@@ -255,5 +359,5 @@ pub(super) fn side_side(
     } else {
         second
     };
-    (main, second)
+    SideSide::Escape(main, second)
 }

@@ -162,12 +162,14 @@ pub(in crate::contact::fibre_fibre) fn rim_rim(
         starts[k] = (rf.nearest(ro.at(po0)), po0);
         k += 1;
     }
-    let dist2 = |(x, y): ((f64, f64), (f64, f64))| (ro.at(y) - rf.at(x)).length_squared();
-    let (mut pf, mut po) = starts[..k]
-        .iter()
-        .copied()
-        .min_by(|x, y| dist2(*x).total_cmp(&dist2(*y)))
-        .unwrap_or(starts[0]);
+    let (mut pf, mut po) = starts[0];
+    let mut nearest = f64::INFINITY;
+    for &(x, y) in &starts[..k] {
+        let d = (ro.at(y) - rf.at(x)).length_squared();
+        if d < nearest {
+            (nearest, pf, po) = (d, x, y);
+        }
+    }
     let mut converged = false;
     let (mut h11, mut h22, mut h12) = (0.0, 0.0, 0.0);
     for _ in 0..RIM_RIM_STEPS {

@@ -49,7 +49,9 @@ const SAMPLES: [(f64, f64); 12] = {
 /// trigonometric polynomial `k0 + k1 c + k2 s + k3 c² + k4 s² + k5 c s` of
 /// degree 2 whose up to two local minima can be far apart (a rim seen
 /// almost edge-on): Newton's method with the closed-form derivatives
-/// starts at the least of the 12 [`SAMPLES`]. The angle is updated by
+/// starts at the least of the 12 [`SAMPLES`], or, where the first harmonic
+/// dominates (one minimum; checked numerically: two minima need a
+/// first-to-second amplitude ratio below 3.74), at its minimum. The angle is updated by
 /// rotating `(cos φ, sin φ)` and renormalising (`tan` of the step instead
 /// of the step: the error stays cubic).
 #[inline]
@@ -76,13 +78,24 @@ pub(in crate::contact::fibre_fibre) fn rim_point_nearest_line(
     let k5 = 2.0 * r * r * b1.dot(b2);
     // f − k0 (the constant |a0|² plays no part).
     let f = |c: f64, s: f64| c * (k1 + k3 * c + k5 * s) + s * (k2 + k4 * s);
-    let (mut c, mut s, mut best) = (1.0f64, 0.0f64, f(1.0, 0.0));
-    for &(ck, sk) in &SAMPLES[1..] {
-        let v = f(ck, sk);
-        if v < best {
-            (c, s, best) = (ck, sk, v);
+    // With the first harmonic (amplitude |(k1, k2)|) more than 4 times the
+    // second (½|(k3 − k4, k5)|), f has one minimum, next to the first
+    // harmonic's (a rim seen face-on, as an end disc of a near-parallel
+    // pair): start there; else at the least sample.
+    let a1 = (k1 * k1 + k2 * k2).sqrt();
+    let a2 = 0.5 * ((k3 - k4) * (k3 - k4) + k5 * k5).sqrt();
+    let (mut c, mut s) = if a1 > 4.0 * a2 {
+        (-k1 / a1, -k2 / a1)
+    } else {
+        let (mut c, mut s, mut best) = (1.0f64, 0.0f64, f(1.0, 0.0));
+        for &(ck, sk) in &SAMPLES[1..] {
+            let v = f(ck, sk);
+            if v < best {
+                (c, s, best) = (ck, sk, v);
+            }
         }
-    }
+        (c, s)
+    };
     let mut converged = false;
     for _ in 0..RIM_NEWTON_STEPS {
         let (c2, s2, cs) = (c * c - s * s, 2.0 * s * c, s * c);
