@@ -20,6 +20,7 @@ pub mod fibre_fibre;
 pub mod fibre_wall;
 pub mod hertz;
 mod laws;
+pub(crate) mod slots;
 pub mod stage;
 pub mod walls;
 
@@ -98,4 +99,17 @@ pub struct KernelCounters {
     /// `parry_calls`, except in the side–side escape, which seeds it with
     /// its own normals).
     pub fallbacks: u64,
+}
+
+impl std::ops::Add for KernelCounters {
+    type Output = Self;
+    fn add(self, o: Self) -> Self {
+        KernelCounters {
+            parry_calls: self.parry_calls + o.parry_calls,
+            parry_rejects: self.parry_rejects + o.parry_rejects,
+            parry_unconfirmed: self.parry_unconfirmed + o.parry_unconfirmed,
+            end_scans: self.end_scans + o.end_scans,
+            fallbacks: self.fallbacks + o.fallbacks,
+        }
+    }
 }
