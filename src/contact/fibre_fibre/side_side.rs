@@ -131,6 +131,9 @@ pub(super) fn closest_point_contact(a: &FibreGeom, b: &FibreGeom, s: f64, t: f64
 }
 
 /// What the side–side model gives.
+// Returned by value once per call and never stored: boxing the rare
+// escape's blends would allocate in the force loop.
+#[allow(clippy::large_enum_variant)]
 pub(super) enum SideSide {
     /// A crossing whose overlap ends do not touch: one point, weight 1.
     Crossing(Cand),

@@ -2,7 +2,7 @@
 //! Two spheres of radius `R = r/sin θc`: the depth is `R_f + R_o − |s_f − s_o|`
 //! along the line of their centres (closed form).
 
-use super::{cap_supports, Stationary};
+use super::{cap_supports, direction, Stationary};
 use crate::contact::fibre_fibre::support::{dome_centre, dome_radius};
 use crate::contact::FibreGeom;
 
@@ -17,11 +17,7 @@ pub(in crate::contact::fibre_fibre) fn face_face(
 ) -> Option<Stationary> {
     let sc = dome_centre(f, sf);
     let d = sc - dome_centre(o, so);
-    let l = d.length();
-    if !(l > 0.0) {
-        return None;
-    }
-    let n = d / l;
+    let n = direction(d)?;
     Some(Stationary {
         n,
         point: sc - dome_radius(f.radius) * n,

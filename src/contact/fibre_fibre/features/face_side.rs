@@ -2,7 +2,7 @@
 //! T-junction, the face lying flat on a side). Sphere against the axis
 //! line: the perpendicular from the line to the dome centre, closed form.
 
-use super::{between_end_planes, cap_supports, perp, Stationary};
+use super::{between_end_planes, cap_supports, direction, perp, Stationary};
 use crate::contact::fibre_fibre::support::{dome_centre, dome_radius};
 use crate::contact::FibreGeom;
 
@@ -22,11 +22,7 @@ pub(in crate::contact::fibre_fibre) fn face_side(
     }
     let s = dome_centre(f, sf);
     let d = perp(s - o.centre, o.axis);
-    let l = d.length();
-    if !(l > 0.0) {
-        return None;
-    }
-    let n = d / l;
+    let n = direction(d)?;
     let point = s - dome_radius(f.radius) * n;
     Some(Stationary {
         n,

@@ -90,6 +90,14 @@ fn between_end_planes(f: &FibreGeom, p: DVec3) -> bool {
     f.axis.dot(p - f.centre).abs() <= f.half_length
 }
 
+/// The unit vector along `d`, or `None` when `d` is zero (or not finite):
+/// the kernels' stationary direction.
+#[inline]
+fn direction(d: DVec3) -> Option<DVec3> {
+    let l = d.length();
+    (l > 0.0).then(|| d / l)
+}
+
 /// Component of `x` perpendicular to the unit `u`.
 #[inline]
 fn perp(x: DVec3, u: DVec3) -> DVec3 {

@@ -2,9 +2,10 @@
 //! a tilted end landing on a face). Circle against sphere: the rim point
 //! nearest the dome's centre, `p = e + r d⊥/|d⊥|`, closed form.
 
-use super::{cap_supports, face_centre, perp, rim_supports, Stationary};
+use super::{cap_supports, direction, face_centre, perp, rim_supports, Stationary};
 use crate::contact::fibre_fibre::support::dome_centre;
 use crate::contact::FibreGeom;
+use std::cmp::Ordering;
 
 /// Rim of `f`'s end `sf` against the face (cap) of `o`'s end `so`: the
 /// direction from `o`'s dome centre `s` to `f`'s rim point nearest `s`.
@@ -21,16 +22,13 @@ pub(in crate::contact::fibre_fibre) fn rim_face(
     let e = face_centre(f, sf);
     let side = perp(s - e, f.axis);
     let sl = side.length();
-    if !(sl > f.radius) {
+    // (NaN included: not beyond the rim.)
+    if sl.partial_cmp(&f.radius) != Some(Ordering::Greater) {
         return None;
     }
     let p = e + (f.radius / sl) * side;
     let d = p - s;
-    let l = d.length();
-    if !(l > 0.0) {
-        return None;
-    }
-    let n = d / l;
+    let n = direction(d)?;
     Some(Stationary {
         n,
         point: p,

@@ -12,6 +12,7 @@
 use super::{cap_supports, face_centre, perp, rim_supports, Stationary};
 use crate::contact::FibreGeom;
 use glam::DVec3;
+use std::cmp::Ordering;
 
 /// Newton steps of the rim–rim distance (quadratic convergence from the
 /// plane-crossing start: 3–5 steps on the poses of the tests).
@@ -182,7 +183,7 @@ pub(in crate::contact::fibre_fibre) fn rim_rim(
         h22 = tp.dot(tp) + d.dot(p - rf.e);
         h12 = -tx.dot(tp);
         let det = h11 * h22 - h12 * h12;
-        if !(det.abs() > 1e-30 * (ro.r * rf.r).powi(2)) {
+        if det.abs().partial_cmp(&(1e-30 * (ro.r * rf.r).powi(2))) != Some(Ordering::Greater) {
             break;
         }
         let dphi = (-(h22 * g1 - h12 * g2) / det).clamp(-MAX_STEP, MAX_STEP);

@@ -5,9 +5,10 @@
 //! polynomial) from the best of 12 sampled angles, at most
 //! [`RIM_NEWTON_STEPS`] steps.
 
-use super::{between_end_planes, face_centre, perp, rim_supports, Stationary};
+use super::{between_end_planes, direction, face_centre, perp, rim_supports, Stationary};
 use crate::contact::FibreGeom;
 use glam::DVec3;
+use std::cmp::Ordering;
 
 /// Most Newton steps of the rim–line distance after the sampled start
 /// (quadratic convergence from within the basin: 2–4 steps on the poses of
@@ -65,7 +66,7 @@ pub(in crate::contact::fibre_fibre) fn rim_point_nearest_line(
     let a0 = perp(e - oc, ou);
     let m = perp(a0, u);
     let ml = m.length();
-    if !(ml > 1e-12 * a0.length().max(r)) {
+    if ml.partial_cmp(&(1e-12 * a0.length().max(r))) != Some(Ordering::Greater) {
         return None;
     }
     let e1 = -m / ml;
@@ -130,11 +131,7 @@ pub(in crate::contact::fibre_fibre) fn rim_side(
     let (p, converged) =
         rim_point_nearest_line(face_centre(f, sf), f.axis, f.radius, o.centre, o.axis)?;
     let d = perp(p - o.centre, o.axis);
-    let l = d.length();
-    if !(l > 0.0) {
-        return None;
-    }
-    let n = d / l;
+    let n = direction(d)?;
     Some(Stationary {
         n,
         point: p,
