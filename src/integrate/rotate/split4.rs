@@ -16,7 +16,8 @@
 //! on test case 4 Yoshida's three reach a given error in less time (README,
 //! Rotators).
 
-use super::split::{free_flow, kick, SplitAux};
+use super::split::SplitAux;
+use super::Split;
 use super::{Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};
 use crate::integrate::scheme::Stage;
@@ -66,9 +67,10 @@ impl Rotator for Split4 {
     const STAGES: &'static [Stage] = YOSHIDA;
 
     fn start(rot: &RotState, inertia: &Inertia) -> SplitAux {
-        <super::Split as Rotator>::start(rot, inertia)
+        <Split as Rotator>::start(rot, inertia)
     }
 
+    /// A whole `split` step over the sub-step.
     #[inline]
     fn advance<T: Fn(f64) -> DVec3>(
         rot: &mut RotState,
@@ -78,10 +80,7 @@ impl Rotator for Split4 {
         t: f64,
         h: f64,
     ) -> Result<(), RotatorFault> {
-        let tau = aux.fsal.at(t, &torque);
-        kick(rot, aux, inertia, (0.5 * h) * tau);
-        free_flow(rot, aux, inertia, h);
-        Ok(())
+        <Split as Rotator>::advance(rot, aux, inertia, torque, t, h)
     }
 
     #[inline]
@@ -93,8 +92,7 @@ impl Rotator for Split4 {
         t_end: f64,
         h: f64,
     ) {
-        let tau = aux.fsal.take(t_end, &torque);
-        kick(rot, aux, inertia, (0.5 * h) * tau);
+        <Split as Rotator>::finish(rot, aux, inertia, torque, t_end, h)
     }
 }
 
