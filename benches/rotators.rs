@@ -1,8 +1,8 @@
 //! ns per body-step of each rotator on test case 4 (issue 2, item 8).
 //!
 //! Three figures per rotator: the whole `World::step` with the paper's torque
-//! (what a run pays), and with a zero torque (the rotator's own arithmetic plus
-//! the step's bookkeeping). `torque_eval/tc4` is one evaluation of the three
+//! (what a run pays), with a zero torque (the rotator's own arithmetic plus
+//! the step's bookkeeping), and on the torque-free asymmetric top. `torque_eval/tc4` is one evaluation of the three
 //! compiled torque components.
 //! Run: `cargo bench --bench rotators`.
 
@@ -56,10 +56,20 @@ fn time_steps(scene: &Scene, kind: RotatorKind, iters: u64) -> Duration {
     total
 }
 
+/// The torque-free asymmetric top (`scenarios/asymmetric_top.toml`), the
+/// body the issue's peer timings (LAMMPS, MuJoCo) were taken on.
+fn asymmetric_top() -> Scene {
+    let text = include_str!("../scenarios/asymmetric_top.toml");
+    scenario::parse_str(text, "asymmetric top").unwrap()
+}
+
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("body_step");
-    for (label, zero) in [("tc4", false), ("zero_torque", true)] {
-        let scene = tc4(zero);
+    for (label, scene) in [
+        ("tc4", tc4(false)),
+        ("zero_torque", tc4(true)),
+        ("asym_free", asymmetric_top()),
+    ] {
         for kind in RotatorKind::ALL {
             g.bench_function(format!("{}/{label}", kind.name()), |b| {
                 b.iter_custom(|iters| time_steps(&scene, kind, iters))

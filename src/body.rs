@@ -17,6 +17,15 @@ pub enum Shape {
         /// m.
         diameter: f64,
     },
+    /// A general rigid body given by its mass and principal inertia
+    /// (`shape = "rigid"`, contact-free scenes only); its geometry is that of
+    /// the uniform ellipsoid with the same mass properties, used only to
+    /// bound the speed of its points.
+    Rigid {
+        /// Semi-axes of the equivalent ellipsoid along body x, y, z, m:
+        /// `a² = 5 (I₂ + I₃ − I₁) / (2m)` and cyclically.
+        semi_axes: DVec3,
+    },
 }
 
 impl Shape {
@@ -26,6 +35,7 @@ impl Shape {
         match *self {
             Shape::Fibre { diameter, length } => PI * diameter * diameter * length / 4.0,
             Shape::Sphere { diameter } => PI * diameter.powi(3) / 6.0,
+            Shape::Rigid { semi_axes: a } => 4.0 / 3.0 * PI * a.x * a.y * a.z,
         }
     }
 
@@ -39,13 +49,19 @@ impl Shape {
                 DVec3::new(axial, transverse, transverse)
             }
             Shape::Sphere { diameter } => DVec3::splat(0.4 * (0.5 * diameter).powi(2)),
+            Shape::Rigid { semi_axes: a } => {
+                let a2 = a * a;
+                0.2 * DVec3::new(a2.y + a2.z, a2.x + a2.z, a2.x + a2.y)
+            }
         }
     }
 
-    /// Diameter of the cylinder or the sphere.
+    /// Diameter of the cylinder or the sphere (a rigid body's largest
+    /// equivalent-ellipsoid diameter).
     pub fn diameter(&self) -> f64 {
         match *self {
             Shape::Fibre { diameter, .. } | Shape::Sphere { diameter } => diameter,
+            Shape::Rigid { semi_axes } => 2.0 * semi_axes.max_element(),
         }
     }
 
@@ -56,6 +72,7 @@ impl Shape {
                 0.5 * (diameter * diameter + length * length).sqrt()
             }
             Shape::Sphere { diameter } => 0.5 * diameter,
+            Shape::Rigid { semi_axes } => semi_axes.max_element(),
         }
     }
 }
@@ -145,6 +162,27 @@ impl Body {
             mass,
             inv_mass: 1.0 / mass,
             inertia: Inertia::new(mass * shape.inertia_per_mass()),
+        }
+    }
+
+    /// A rigid body of `mass` and principal moments `inertia` (body frame),
+    /// which must satisfy the triangle inequalities `Iᵢ + Iⱼ ≥ I_k`
+    /// (checked by the scenario), made of `material`.
+    pub fn rigid(mass: f64, inertia: DVec3, material: MaterialId) -> Self {
+        let semi2 = 2.5 / mass
+            * DVec3::new(
+                inertia.y + inertia.z - inertia.x,
+                inertia.x + inertia.z - inertia.y,
+                inertia.x + inertia.y - inertia.z,
+            );
+        Body {
+            shape: Shape::Rigid {
+                semi_axes: semi2.max(DVec3::ZERO).to_array().map(f64::sqrt).into(),
+            },
+            material,
+            mass,
+            inv_mass: 1.0 / mass,
+            inertia: Inertia::new(inertia),
         }
     }
 }

@@ -114,6 +114,8 @@ pub fn min_effective_mass(b: &Body) -> (f64, f64) {
             (1.0 / (1.0 / b.mass + arm * arm / i_t), arm)
         }
         Shape::Sphere { .. } => (b.mass, 0.0),
+        // Contact-free only (the scenario refuses it elsewhere): never asked.
+        Shape::Rigid { semi_axes } => (b.mass, semi_axes.max_element()),
     }
 }
 

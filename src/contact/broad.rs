@@ -26,6 +26,8 @@ pub const BRUTE_FORCE_MAX: usize = 32;
 pub fn aabb(shape: &Shape, centre: DVec3, axis: DVec3) -> (DVec3, DVec3) {
     let half = match *shape {
         Shape::Sphere { diameter } => DVec3::splat(0.5 * diameter),
+        // Contact-free only (the scenario refuses it elsewhere): its bounding sphere.
+        Shape::Rigid { semi_axes } => DVec3::splat(semi_axes.max_element()),
         Shape::Fibre { diameter, length } => {
             let disc = DVec3::from_array(
                 (DVec3::ONE - axis * axis)

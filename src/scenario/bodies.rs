@@ -35,7 +35,21 @@ pub(super) fn build_body(
     materials: &mut Materials,
 ) -> Result<(Body, BodyState, Option<PrescribedTorque>)> {
     let key = |k: &str| format!("body[{i}].{k}");
-    let diameter = cx.positive(&key("diameter"), b.diameter)?;
+    if b.shape == ShapeName::Rigid {
+        return build_rigid(cx, i, b, needs_contacts, materials);
+    }
+    for (k, given) in [("mass", b.mass.is_some()), ("inertia", b.inertia.is_some())] {
+        if given {
+            return Err(cx.err(
+                &key(k),
+                format!("`{k}` is for shape = \"rigid\" only; a fibre's or a sphere's mass properties come from its size and density: remove `{k}`, or use shape = \"rigid\""),
+            ));
+        }
+    }
+    let diameter = match b.diameter {
+        Some(d) => cx.positive(&key("diameter"), d)?,
+        None => return Err(cx.err(&key("diameter"), "give the `diameter` (m)")),
+    };
     let shape = match (b.shape, b.length) {
         (ShapeName::Fibre, Some(l)) => Shape::Fibre {
             diameter,
@@ -51,6 +65,7 @@ pub(super) fn build_body(
                 "a sphere has no `length`; remove it or use shape = \"fibre\"",
             ))
         }
+        (ShapeName::Rigid, _) => unreachable!("built above"),
     };
     if needs_contacts && matches!(shape, Shape::Sphere { .. }) {
         return Err(cx.err(
@@ -111,6 +126,103 @@ pub(super) fn build_body(
         (young.unwrap_or(f64::NAN), poisson.unwrap_or(f64::NAN))
     };
 
+    let (q, x, v, omega_w) = kinematics(cx, i, b, &shape)?;
+    let torque = prescribed(cx, i, b)?;
+    let material = materials.intern(b.material.as_deref(), density, young, poisson);
+    let body = Body::new(shape, material, density);
+    let state = BodyState {
+        x,
+        v,
+        rot: RotState {
+            q,
+            omega_b: q.conjugate() * omega_w,
+        },
+    };
+    Ok((body, state, torque))
+}
+
+/// A `shape = "rigid"` body: `mass` and principal `inertia` instead of a
+/// size and a material; contact-free scenes only.
+fn build_rigid(
+    cx: &Ctx,
+    i: usize,
+    b: &BodySection,
+    needs_contacts: bool,
+    materials: &mut Materials,
+) -> Result<(Body, BodyState, Option<PrescribedTorque>)> {
+    let key = |k: &str| format!("body[{i}].{k}");
+    if needs_contacts {
+        return Err(cx.err(
+            &key("shape"),
+            "rigid bodies have no contact geometry, so they are supported only in contact-free scenes (one body, no [box]); remove the [box] and the other bodies, or use fibres",
+        ));
+    }
+    for (k, given) in [
+        ("diameter", b.diameter.is_some()),
+        ("length", b.length.is_some()),
+        ("material", b.material.is_some()),
+        ("density", b.density.is_some()),
+        ("young", b.young.is_some()),
+        ("poisson", b.poisson.is_some()),
+    ] {
+        if given {
+            return Err(cx.err(
+                &key(k),
+                format!("a rigid body is given by `mass` and `inertia` only; remove `{k}`"),
+            ));
+        }
+    }
+    let mass = match b.mass {
+        Some(m) => cx.positive(&key("mass"), m)?,
+        None => return Err(cx.err(&key("mass"), "a rigid body needs its `mass` (kg)")),
+    };
+    let Some(moments) = b.inertia else {
+        return Err(cx.err(
+            &key("inertia"),
+            "a rigid body needs its principal moments `inertia = [I1, I2, I3]` about body x, y, z (kg m^2)",
+        ));
+    };
+    for (k, &m) in moments.iter().enumerate() {
+        cx.positive(&key(&format!("inertia[{k}]")), m)?;
+    }
+    let [a, b2, c] = moments;
+    for (lhs, rhs, text) in [
+        (b2 + c, a, "I2 + I3 >= I1"),
+        (a + c, b2, "I1 + I3 >= I2"),
+        (a + b2, c, "I1 + I2 >= I3"),
+    ] {
+        if lhs < rhs {
+            return Err(cx.err(
+                &key("inertia"),
+                format!("{moments:?} violates {text}: the principal moments of a rigid body satisfy the triangle inequalities (e.g. a solid box of sides a, b, c has I1 = m (b^2 + c^2)/12 and cyclically); check the values and their order"),
+            ));
+        }
+    }
+    let shape_probe = Body::rigid(mass, DVec3::from_array(moments), 0).shape;
+    let (q, x, v, omega_w) = kinematics(cx, i, b, &shape_probe)?;
+    let torque = prescribed(cx, i, b)?;
+    let material = materials.intern(None, f64::NAN, f64::NAN, f64::NAN);
+    let body = Body::rigid(mass, DVec3::from_array(moments), material);
+    let state = BodyState {
+        x,
+        v,
+        rot: RotState {
+            q,
+            omega_b: q.conjugate() * omega_w,
+        },
+    };
+    Ok((body, state, torque))
+}
+
+/// Orientation, position, velocity and world angular velocity of a body,
+/// checked.
+fn kinematics(
+    cx: &Ctx,
+    i: usize,
+    b: &BodySection,
+    shape: &Shape,
+) -> Result<(DQuat, DVec3, DVec3, DVec3)> {
+    let key = |k: &str| format!("body[{i}].{k}");
     let q = match (b.axis, b.quaternion) {
         (Some(_), Some(_)) => {
             return Err(cx.err(&key("axis"), "give either `axis` or `quaternion`, not both"))
@@ -157,7 +269,13 @@ pub(super) fn build_body(
             ));
         }
     }
-    let torque = match &b.torque {
+    Ok((q, x, v, omega_w))
+}
+
+/// The body's prescribed torque, compiled.
+fn prescribed(cx: &Ctx, i: usize, b: &BodySection) -> Result<Option<PrescribedTorque>> {
+    let key = |k: &str| format!("body[{i}].{k}");
+    Ok(match &b.torque {
         Some(t) => {
             let texts = [t[0].text(), t[1].text(), t[2].text()];
             Some(
@@ -166,18 +284,7 @@ pub(super) fn build_body(
             )
         }
         None => None,
-    };
-    let material = materials.intern(b.material.as_deref(), density, young, poisson);
-    let body = Body::new(shape, material, density);
-    let state = BodyState {
-        x,
-        v,
-        rot: RotState {
-            q,
-            omega_b: q.conjugate() * omega_w,
-        },
-    };
-    Ok((body, state, torque))
+    })
 }
 
 /// The scene's material table: named `[material.NAME]` tables in the order

@@ -136,7 +136,14 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
     }
 
     let reference = match &raw.reference {
-        Some(r) => Some(build_reference(&cx, r, &bodies, &initial, &torques)?),
+        Some(r) => Some(build_reference(
+            &cx,
+            r,
+            &bodies,
+            &mut initial,
+            &mut torques,
+            needs_contacts,
+        )?),
         None => None,
     };
 

@@ -95,6 +95,9 @@ pub enum ShapeName {
     Fibre,
     /// Solid sphere (contact-free scenes only).
     Sphere,
+    /// A general rigid body given by `mass` and principal `inertia`
+    /// (contact-free scenes only).
+    Rigid,
 }
 
 /// `[[body]]`.
@@ -103,12 +106,17 @@ pub enum ShapeName {
 pub struct BodySection {
     /// A label for messages and outputs (default `body<index>`).
     pub name: Option<String>,
-    /// `fibre` or `sphere`.
+    /// `fibre`, `sphere` or `rigid`.
     pub shape: ShapeName,
-    /// m.
-    pub diameter: f64,
+    /// m (fibres and spheres).
+    pub diameter: Option<f64>,
     /// Fibres only.
     pub length: Option<f64>,
+    /// Mass, kg (rigid bodies only).
+    pub mass: Option<f64>,
+    /// Principal moments of inertia `[I1, I2, I3]` about body x, y, z,
+    /// kg m² (rigid bodies only).
+    pub inertia: Option<[f64; 3]>,
     /// Either `material = "name"` or inline `density` (+ `young`, `poisson`).
     pub material: Option<String>,
     /// Inline density, kg/m³.
@@ -153,17 +161,29 @@ impl TorqueComponent {
     }
 }
 
-/// A closed-form reference solution the scene declares (test case 3).
+/// A closed-form reference solution the scene declares.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ReferenceSection {
-    /// `"exp-torque-sphere"`: a sphere at rest under `τ = A e^{Ct} â` (world) turns
-    /// about `â` by `θ(t) = A (e^{Ct} − 1 − Ct) / (I C²)`.
+    /// `"exp-torque-sphere"` (test case 3): a sphere at rest under
+    /// `τ = A e^{Ct} â` (world) turns about `â` by `θ(t) = A (e^{Ct} − 1 − Ct) / (I C²)`.
+    /// `"torque-free"`: the exact torque-free motion of the body from its
+    /// start (regular precession, or Jacobi's elliptic functions).
+    /// `"manufactured"`: `q(t) = exp(φ u/2) q₀ exp(ψ v/2)`, driven by the torque
+    /// it implies (the body gives no `torque` and no `angular_velocity`).
     pub closed_form: String,
-    /// The torque's direction `â` (world).
-    pub axis: [f64; 3],
-    /// `A`, N·m.
-    pub a: f64,
-    /// `C`, 1/s.
-    pub c: f64,
+    /// exp-torque-sphere: the torque's direction `â` (world).
+    pub axis: Option<[f64; 3]>,
+    /// exp-torque-sphere: `A`, N·m.
+    pub a: Option<f64>,
+    /// exp-torque-sphere: `C`, 1/s.
+    pub c: Option<f64>,
+    /// manufactured: the world axis `u` of `φ`.
+    pub precession_axis: Option<[f64; 3]>,
+    /// manufactured: the body axis `v` of `ψ`.
+    pub spin_axis: Option<[f64; 3]>,
+    /// manufactured: `[a, b, c]` of `φ(t) = a t + b sin(c t)` (rad/s, rad, rad/s).
+    pub precession: Option<[f64; 3]>,
+    /// manufactured: `[a, b, c]` of `ψ(t) = a t + b (1 − cos(c t))`.
+    pub spin: Option<[f64; 3]>,
 }

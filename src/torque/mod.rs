@@ -3,6 +3,8 @@
 //! Each component is a constant or an expression in `t` (seconds) compiled once
 //! ([`Expr`], flattened into a [`Program`]), e.g. `"5e-4*sin(200*pi*t)"`, `"1e-5*exp(3+24*t)"`, `"1e-5*5^(52*t)"`.
 //! Cost per evaluation is measured in `benches/rotators.rs` and quoted in the README.
+//! A manufactured solution's torque ([`crate::reference::Manufactured`]) is
+//! the other source: computed from its closed form, never written by hand.
 
 mod expr;
 
@@ -41,10 +43,17 @@ impl Component {
     }
 }
 
-/// A world-frame torque `τ(t)` given component-wise.
+/// A world-frame torque `τ(t)`: given component-wise, or the torque of a
+/// manufactured solution.
 #[derive(Debug, Clone)]
 pub struct PrescribedTorque {
-    comps: [Component; 3],
+    source: Source,
+}
+
+#[derive(Debug, Clone)]
+enum Source {
+    Components([Component; 3]),
+    Manufactured(std::sync::Arc<crate::reference::Manufactured>),
 }
 
 impl PrescribedTorque {
@@ -54,17 +63,23 @@ impl PrescribedTorque {
         let c1 = Component::parse(&components[1]).map_err(|e| (1, e))?;
         let c2 = Component::parse(&components[2]).map_err(|e| (2, e))?;
         Ok(PrescribedTorque {
-            comps: [c0, c1, c2],
+            source: Source::Components([c0, c1, c2]),
         })
+    }
+
+    /// The torque that drives manufactured solution `m`.
+    pub fn manufactured(m: std::sync::Arc<crate::reference::Manufactured>) -> Self {
+        PrescribedTorque {
+            source: Source::Manufactured(m),
+        }
     }
 
     /// World torque at time `t`.
     #[inline]
     pub fn at(&self, t: f64) -> DVec3 {
-        DVec3::new(
-            self.comps[0].eval(t),
-            self.comps[1].eval(t),
-            self.comps[2].eval(t),
-        )
+        match &self.source {
+            Source::Components(c) => DVec3::new(c[0].eval(t), c[1].eval(t), c[2].eval(t)),
+            Source::Manufactured(m) => m.torque(t),
+        }
     }
 }

@@ -32,6 +32,9 @@ impl Rotator for Leapfrog {
         title: "Leap-frog in Cayley form, kick-drift-kick on the world angular momentum",
         equations: "Eq. 33-39",
         order: 1,
+        order_free: 1,
+        symplectic: false,
+        reversible: false,
         torque_evals: 2,
         torque_contract:
             "half-kick with torque at (t_n, q_n); closing half-kick with torque at (t_n+1, q_n+1)",
