@@ -199,7 +199,7 @@ pub fn advise(scene: &Scene) -> Advice {
             kinds.push(i);
         }
     }
-    let name = |i: usize| scene.names[i].clone();
+    let name = |i: usize| scene.name(i);
     let mat = |i: usize| scene.material(i);
     if let Some(w) = &scene.walls {
         for &i in &kinds {

@@ -34,7 +34,12 @@ impl fmt::Display for CheckReport<'_> {
             writeln!(
                 f,
                 "  [{i}] {:<10} {:?}  m = {:.4e}  I = ({:.4e}, {:.4e}, {:.4e})",
-                scene.names[i], b.shape, b.mass, p.x, p.y, p.z
+                scene.name(i),
+                b.shape,
+                b.mass,
+                p.x,
+                p.y,
+                p.z
             )?;
         }
         let search = match scene.bodies.len() {

@@ -3,6 +3,7 @@
 //! numerical parameters and references in their own files).
 
 mod bodies;
+pub mod body_file;
 pub mod build;
 mod check;
 pub mod file;
