@@ -345,7 +345,16 @@ fn impact_speed_replaces_the_bound() {
     let t_h = hertz_time(m_eff / 2.0, f.d / 4.0, e_star(f.e, f.nu, f.e, f.nu), 3.0);
     close(row[3], t_h, "t_Hertz of a pair");
     let wall = numbers_after(line_with(&out, "–wall"), "–wall");
-    close(wall[3], hertz_time(m_eff, f.d / 2.0, e_star(f.e, f.nu, 5e7, 0.23), 3.0), "t_Hertz on a wall");
-    let o = fibresim(&["check", "scenarios/nine_fibres.toml", "--impact-speed", "-1"]);
+    close(
+        wall[3],
+        hertz_time(m_eff, f.d / 2.0, e_star(f.e, f.nu, 5e7, 0.23), 3.0),
+        "t_Hertz on a wall",
+    );
+    let o = fibresim(&[
+        "check",
+        "scenarios/nine_fibres.toml",
+        "--impact-speed",
+        "-1",
+    ]);
     assert_eq!(o.status.code(), Some(2));
 }

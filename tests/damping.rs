@@ -45,7 +45,11 @@ fn run(text: &str) -> (Vec<glam::DVec3>, f64, f64) {
         budget = budget.max(((w.ledger.total_full() - w.e0_full) / w.e0_full).abs());
     })
     .expect("stable");
-    (w.states.iter().map(|s| s.v).collect(), budget, w.ledger.dissipated)
+    (
+        w.states.iter().map(|s| s.v).collect(),
+        budget,
+        w.ledger.dissipated,
+    )
 }
 
 /// End-on drop at speed v with `steps` steps per Hertz time: rebound
@@ -56,7 +60,12 @@ fn end_on(e: f64, v: f64, steps: f64) -> (f64, f64, f64) {
     let dt = t_c / steps;
     let gap = 1e-4;
     let t_end = ((gap / v + 2.0 * t_c) / dt).ceil() * dt;
-    let text = scene(dt, t_end, e, &fibre([0.0, 0.0, 0.015 + gap], [0.0, 0.0, 1.0], [0.0, 0.0, -v]));
+    let text = scene(
+        dt,
+        t_end,
+        e,
+        &fibre([0.0, 0.0, 0.015 + gap], [0.0, 0.0, 1.0], [0.0, 0.0, -v]),
+    );
     let (vf, budget, diss) = run(&text);
     let e0 = 0.5 * MASS * v * v;
     let lost = e0 - 0.5 * MASS * vf[0].length_squared();
@@ -80,7 +89,10 @@ fn an_end_on_drop_rebounds_with_e_at_every_speed() {
             let (err1, err2) = ((r1 - e).abs(), (r2 - e).abs());
             assert!(err1 < 5e-3 * e, "e = {e}, v = {v}: rebound {r1}");
             assert!(err2 < err1 / 3.0, "first order: {err1:e} then {err2:e}");
-            assert!(b1 < 2.0 * elastic + 1e-12, "budget error {b1:e}, elastic {elastic:e}");
+            assert!(
+                b1 < 2.0 * elastic + 1e-12,
+                "budget error {b1:e}, elastic {elastic:e}"
+            );
             assert!(gap <= b1 + 1e-15, "dissipated vs lost {gap:e}");
         }
     }
@@ -109,8 +121,14 @@ fn a_flat_landing_rebounds_with_the_two_point_restitution() {
     let (vf, budget, _) = flat(e);
     let (_, elastic, _) = flat(1.0);
     let ratio = vf[0].z / v;
-    assert!((ratio - want).abs() < 5e-3 * want, "rebound {ratio}, stated {want}");
-    assert!(budget < 2.0 * elastic + 1e-12, "budget error {budget:e}, elastic {elastic:e}");
+    assert!(
+        (ratio - want).abs() < 5e-3 * want,
+        "rebound {ratio}, stated {want}"
+    );
+    assert!(
+        budget < 2.0 * elastic + 1e-12,
+        "budget error {budget:e}, elastic {elastic:e}"
+    );
 }
 
 /// Two fibres end to end (one contact between the face centres, pure
@@ -122,14 +140,24 @@ fn a_coaxial_head_on_pair_separates_with_e() {
     let dt: f64 = 2e-7;
     let gap = 1e-4;
     let t_end = ((gap / (2.0 * v) + 2e-3) / dt).ceil() * dt;
-    let bodies = fibre([-0.015 - gap / 2.0, 0.0, 1.0], [1.0, 0.0, 0.0], [v, 0.0, 0.0])
-        + &fibre([0.015 + gap / 2.0, 0.0, 1.0], [1.0, 0.0, 0.0], [-v, 0.0, 0.0]);
+    let bodies = fibre(
+        [-0.015 - gap / 2.0, 0.0, 1.0],
+        [1.0, 0.0, 0.0],
+        [v, 0.0, 0.0],
+    ) + &fibre(
+        [0.015 + gap / 2.0, 0.0, 1.0],
+        [1.0, 0.0, 0.0],
+        [-v, 0.0, 0.0],
+    );
     let (vf, budget, _) = run(&scene(dt, t_end, e, &bodies));
     let (_, elastic, _) = run(&scene(dt, t_end, 1.0, &bodies));
     let ratio = (vf[1].x - vf[0].x) / (2.0 * v);
     assert!((ratio - e).abs() < 5e-3 * e, "relative rebound {ratio}");
     assert!(vf[0].x < 0.0 && vf[1].x > 0.0);
-    assert!(budget < 2.0 * elastic + 1e-12, "budget error {budget:e}, elastic {elastic:e}");
+    assert!(
+        budget < 2.0 * elastic + 1e-12,
+        "budget error {budget:e}, elastic {elastic:e}"
+    );
 }
 
 /// `restitution = 1` is the elastic scene: the same bytes as without the
@@ -145,11 +173,16 @@ fn restitution_one_runs_exactly_as_an_elastic_scene() {
     for (name, text) in [("a", elastic), ("b", one)] {
         let path = dir.path().join(format!("{name}.toml"));
         std::fs::write(&path, text).unwrap();
-        let o = common::fibresim(&["run", path.to_str().unwrap(), "-q", "--out", dir.path().join(name).to_str().unwrap()]);
+        let o = common::fibresim(&[
+            "run",
+            path.to_str().unwrap(),
+            "-q",
+            "--out",
+            dir.path().join(name).to_str().unwrap(),
+        ]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         out.push(std::fs::read(dir.path().join(name).join("energy.csv")).unwrap());
     }
     assert_eq!(out[0], out[1]);
     assert!(!String::from_utf8_lossy(&out[0]).contains("e_dissipated"));
 }
-

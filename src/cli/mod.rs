@@ -186,7 +186,7 @@ fn settle(plan: plan::SettlePlan) -> Result<()> {
                 ke / n,
                 settle.ke_per_body
             ),
-            "Elastic (no [contact] table); the resting contacts overlap, hence guards.start_overlap_ratio.".into(),
+            "Elastic (no damping); the resting contacts overlap, hence guards.start_overlap_ratio.".into(),
         ],
         dt: plan.write_dt,
         t_end: plan.write_t_end,

@@ -2,18 +2,24 @@
 //! "args → checked objects"): every flag check lives here, so the commands
 //! only execute.
 
-use super::args::{CheckArgs, CompareArgs, ConvergeArgs, GenerateArgs, RunArgs, SettleArgs, StressArgs};
+use super::args::{
+    CheckArgs, CompareArgs, ConvergeArgs, GenerateArgs, RunArgs, SettleArgs, StressArgs,
+};
 use crate::advice::{advise_with, Advice};
 use crate::contact::damping::Restitution;
-use crate::generate::{place::Placement, sample::{Orientation, Size}, GenerateOptions, Velocity};
-use glam::DVec3;
 use crate::error::{Error, Result};
+use crate::generate::{
+    place::Placement,
+    sample::{Orientation, Size},
+    GenerateOptions, Velocity,
+};
 use crate::output::Checkpoint;
 use crate::run::RunOptions;
 use crate::scenario::{self, Scene, SimParams};
 use crate::study::compare::CompareOptions;
 use crate::study::converge::ConvergeOptions;
 use crate::study::stress::{load_cases, StressCase, StressOptions};
+use glam::DVec3;
 use std::path::{Path, PathBuf};
 
 /// The default scene of `fibresim run` with no scenario.
@@ -118,7 +124,10 @@ impl RunArgs {
                 "checkpoints of scenes with damping ([contact] restitution < 1) are not supported yet: their forces depend on the half-step velocities, which a checkpoint does not hold; run without --checkpoint-every",
             ));
         }
-        let impact = self.impact_speed.map(|v| positive_flag("--impact-speed", v)).transpose()?;
+        let impact = self
+            .impact_speed
+            .map(|v| positive_flag("--impact-speed", v))
+            .transpose()?;
         let advice = advise_with(&scene, impact);
         if let Some(limit) = advice.hard_limit_dt {
             let dt = scene.sim.dt();
@@ -170,7 +179,10 @@ impl CheckArgs {
             scene.sim =
                 SimParams::new(dt, s.t_end(), s.rotator(), s.every(), "command line", "--")?;
         }
-        let impact = self.impact_speed.map(|v| positive_flag("--impact-speed", v)).transpose()?;
+        let impact = self
+            .impact_speed
+            .map(|v| positive_flag("--impact-speed", v))
+            .transpose()?;
         let advice = advise_with(&scene, impact);
         Ok(CheckPlan { scene, advice })
     }
@@ -310,13 +322,23 @@ impl GenerateArgs {
         let size = numbers::<3>("--box", &self.box_size, "LX,LY,LZ in m, e.g. 0.3,0.3,1.2")?;
         let size = DVec3::from_array(size);
         if size.min_element() <= 0.0 {
-            return Err(Error::bad("command line", "--box", format!("every side must be > 0, got {size}")));
+            return Err(Error::bad(
+                "command line",
+                "--box",
+                format!("every side must be > 0, got {size}"),
+            ));
         }
         let diameter = size_flag("--diameter", &self.diameter)?;
         let length = size_flag("--length", &self.length)?;
         let gap = match self.gap {
             Some(g) if g.is_finite() && g >= 0.0 => g,
-            Some(g) => return Err(Error::bad("command line", "--gap", format!("must be >= 0, got {g}"))),
+            Some(g) => {
+                return Err(Error::bad(
+                    "command line",
+                    "--gap",
+                    format!("must be >= 0, got {g}"),
+                ))
+            }
             None => diameter.mean() / 20.0,
         };
         // The fibres keep `gap` from the walls too.
@@ -333,35 +355,74 @@ impl GenerateArgs {
         };
         let region = (lo + DVec3::splat(gap), hi - DVec3::splat(gap));
         if (region.1 - region.0).min_element() <= diameter.max() {
-            return Err(Error::bad("command line", "--region", "the region is thinner than a fibre; enlarge it"));
+            return Err(Error::bad(
+                "command line",
+                "--region",
+                "the region is thinner than a fibre; enlarge it",
+            ));
         }
         let axis = DVec3::from_array(numbers::<3>("--axis", &self.axis, "X,Y,Z, e.g. 0,0,1")?);
         if axis.length() < 1e-12 {
-            return Err(Error::bad("command line", "--axis", "must be a non-zero direction"));
+            return Err(Error::bad(
+                "command line",
+                "--axis",
+                "must be a non-zero direction",
+            ));
         }
         let axis = axis.normalize();
         let orientation = match self.orientation.as_str() {
             "isotropic" => Orientation::Isotropic,
             "aligned" => Orientation::Aligned(axis),
             "planar" => Orientation::Planar(axis),
-            o => return Err(Error::bad("command line", "--orientation", format!("unknown orientation `{o}`; choose isotropic, aligned or planar"))),
+            o => {
+                return Err(Error::bad(
+                    "command line",
+                    "--orientation",
+                    format!("unknown orientation `{o}`; choose isotropic, aligned or planar"),
+                ))
+            }
         };
         let velocity = match &self.velocity {
-            Some(v) => Velocity::Fixed(DVec3::from_array(numbers::<3>("--velocity", v, "VX,VY,VZ in m/s")?)),
+            Some(v) => Velocity::Fixed(DVec3::from_array(numbers::<3>(
+                "--velocity",
+                v,
+                "VX,VY,VZ in m/s",
+            )?)),
             None if self.speed.is_finite() && self.speed >= 0.0 => Velocity::Random(self.speed),
-            None => return Err(Error::bad("command line", "--speed", format!("must be >= 0, got {}", self.speed))),
+            None => {
+                return Err(Error::bad(
+                    "command line",
+                    "--speed",
+                    format!("must be >= 0, got {}", self.speed),
+                ))
+            }
         };
         if !(self.spin.is_finite() && self.spin >= 0.0) {
-            return Err(Error::bad("command line", "--spin", format!("must be >= 0, got {}", self.spin)));
+            return Err(Error::bad(
+                "command line",
+                "--spin",
+                format!("must be >= 0, got {}", self.spin),
+            ));
         }
         let gravity = match self.gravity.as_str() {
             "none" => None,
-            g => Some(DVec3::from_array(numbers::<3>("--gravity", g, "GX,GY,GZ in m/s^2 or `none`")?)),
+            g => Some(DVec3::from_array(numbers::<3>(
+                "--gravity",
+                g,
+                "GX,GY,GZ in m/s^2 or `none`",
+            )?)),
         };
         let young = positive_flag("--young", self.young)?;
         let poisson = poisson_flag("--poisson", self.poisson)?;
         let e = restitution_flag("--restitution", self.restitution)?;
-        let sim = SimParams::new(self.dt, self.t_end, crate::integrate::rotate::RotatorKind::Pcdm, None, "command line", "--")?;
+        let sim = SimParams::new(
+            self.dt,
+            self.t_end,
+            crate::integrate::rotate::RotatorKind::Pcdm,
+            None,
+            "command line",
+            "--",
+        )?;
         Ok(GenerateOptions {
             placement: Placement {
                 n: self.n,
@@ -420,7 +481,11 @@ impl SettleArgs {
     pub fn plan(self) -> Result<SettlePlan> {
         let mut scene = scenario::load(&self.scenario)?;
         if scene.has_prescribed_torque() {
-            return Err(Error::bad(&scene.source, "body.torque", "a scene with prescribed torques cannot settle; remove the torques"));
+            return Err(Error::bad(
+                &scene.source,
+                "body.torque",
+                "a scene with prescribed torques cannot settle; remove the torques",
+            ));
         }
         if let Some(e) = self.restitution {
             let e = restitution_flag("--restitution", e)?;
@@ -431,21 +496,35 @@ impl SettleArgs {
         }
         if self.dt.is_some() || self.t_end.is_some() || self.every.is_some() {
             let s = &scene.sim;
-            scene.sim = SimParams::new(self.dt.unwrap_or(s.dt()), self.t_end.unwrap_or(s.t_end()), s.rotator(), self.every.or(s.every()), "command line", "--")?;
+            scene.sim = SimParams::new(
+                self.dt.unwrap_or(s.dt()),
+                self.t_end.unwrap_or(s.t_end()),
+                s.rotator(),
+                self.every.or(s.every()),
+                "command line",
+                "--",
+            )?;
         }
         let ke = match self.ke_per_fibre {
             Some(k) => positive_flag("--ke-per-fibre", k)?,
             None => {
                 // 1e-4 of the mean m g D (g = 9.81 m/s² without gravity).
                 let g = scene.gravity.map_or(9.81, |g| g.length());
-                let sum: f64 = scene.bodies.iter().map(|b| b.mass * g * b.shape.diameter()).sum();
+                let sum: f64 = scene
+                    .bodies
+                    .iter()
+                    .map(|b| b.mass * g * b.shape.diameter())
+                    .sum();
                 1e-4 * sum / scene.bodies.len() as f64
             }
         };
         if self.check_every == 0 {
             return Err(Error::bad("command line", "--check-every", "must be >= 1"));
         }
-        let impact = self.impact_speed.map(|v| positive_flag("--impact-speed", v)).transpose()?;
+        let impact = self
+            .impact_speed
+            .map(|v| positive_flag("--impact-speed", v))
+            .transpose()?;
         let advice = advise_with(&scene, impact);
         if let Some(limit) = advice.hard_limit_dt {
             if scene.sim.dt() > limit && !self.allow_large_dt {
@@ -453,15 +532,32 @@ impl SettleArgs {
             }
         }
         let write_dt = positive_flag("--write-dt", self.write_dt.unwrap_or(scene.sim.dt()))?;
-        let write_t_end = positive_flag("--write-t-end", self.write_t_end.unwrap_or(100.0 * write_dt))?;
-        SimParams::new(write_dt, write_t_end, scene.sim.rotator(), None, "command line", "--write-")?;
-        let out = self.out.unwrap_or_else(|| PathBuf::from("out").join(stem(&self.scenario)).join("settle"));
+        let write_t_end = positive_flag(
+            "--write-t-end",
+            self.write_t_end.unwrap_or(100.0 * write_dt),
+        )?;
+        SimParams::new(
+            write_dt,
+            write_t_end,
+            scene.sim.rotator(),
+            None,
+            "command line",
+            "--write-",
+        )?;
+        let out = self.out.unwrap_or_else(|| {
+            PathBuf::from("out")
+                .join(stem(&self.scenario))
+                .join("settle")
+        });
         Ok(SettlePlan {
             opts: RunOptions {
                 out_dir: out.clone(),
                 progress: !self.quiet,
                 checkpoint_every: None,
-                settle: Some(crate::run::Settle { ke_per_body: ke, every: self.check_every }),
+                settle: Some(crate::run::Settle {
+                    ke_per_body: ke,
+                    every: self.check_every,
+                }),
                 write_bodies: Some(crate::generate::body_file_of(&self.write)),
             },
             scene,

@@ -4,11 +4,12 @@
 //! the bodies), and the stage's own kernels for the pairs whose capsules
 //! overlap by more than the tolerance.
 //!
-//! The grid: cell side `h = max(mean box extent, (V / 2N)^{1/3})`, so a box
-//! spans a few cells and the grid has at most ~2N cells; boxes are counted
-//! into every cell they touch (a counting sort, O(N + cells)), and a pair is
-//! tested only in the cell holding the larger of its two lower corners, so
-//! once. The answer does not depend on the grid: it is the first overlap in
+//! The grid: cell side `h = max(widest box, (V / 2N)^{1/3})`, so the grid
+//! has at most ~2N cells and two touching boxes have their lower corners in
+//! neighbouring cells; each box is filed once under its lower corner's cell
+//! (a counting sort, O(N + cells)) and meets the boxes of the 27 cells
+//! around, each pair from its lower body only. O(N) for beds of bounded
+//! density and aspect ratio (one very long fibre widens every cell). The answer does not depend on the grid: it is the first overlap in
 //! the order of the O(N²) check it replaces (walls first by body, then pairs
 //! `(i, j)` lexicographically), so messages name the same bodies.
 
@@ -57,35 +58,28 @@ pub(crate) fn first_overlap(
     let grid = Grid::new(&geoms);
     // Every pair whose capsules overlap by more than the tolerance goes to
     // the kernels; the first in (i, j) order wins.
-    let found = (0..grid.cells())
+    let found = (0..grid.start.len() - 1)
         .into_par_iter()
         .filter_map(|c| {
             let mut pts = vec![];
             let mut k = KernelCounters::default();
             let mut best: Option<Overlap> = None;
-            let members = grid.members(c);
-            for (x, &i) in members.iter().enumerate() {
-                for &j in &members[x + 1..] {
-                    let (i, j) = (i.min(j) as usize, i.max(j) as usize);
-                    if best.is_some_and(|(bi, bj, _)| (bi, bj) < (i, Some(j))) {
-                        continue;
-                    }
-                    if !grid.owns(c, i, j) {
-                        continue;
-                    }
-                    let (a, b) = (&geoms[i], &geoms[j]);
-                    let d = 2.0 * a.radius.min(b.radius);
-                    let capsule = a.radius + b.radius - segment_distance(a, b);
-                    if capsule <= 0.0 || (tolerance > 0.0 && capsule <= tolerance * d) {
-                        continue;
-                    }
-                    pts.clear();
-                    contacts(Collider::Fibre(a), Collider::Fibre(b), &mut pts, &mut k);
-                    if let Some(o) = deepest(&pts).filter(|&o| too_deep(o, d)) {
-                        best = Some((i, Some(j), o));
-                    }
+            grid.pairs_from(c, |i, j| {
+                if best.is_some_and(|(bi, bj, _)| (bi, bj) < (i, Some(j))) {
+                    return;
                 }
-            }
+                let (a, b) = (&geoms[i], &geoms[j]);
+                let d = 2.0 * a.radius.min(b.radius);
+                let capsule = a.radius + b.radius - segment_distance(a, b);
+                if capsule <= 0.0 || (tolerance > 0.0 && capsule <= tolerance * d) {
+                    return;
+                }
+                pts.clear();
+                contacts(Collider::Fibre(a), Collider::Fibre(b), &mut pts, &mut k);
+                if let Some(o) = deepest(&pts).filter(|&o| too_deep(o, d)) {
+                    best = Some((i, Some(j), o));
+                }
+            });
             best
         })
         .min_by(|a, b| (a.0, a.1).cmp(&(b.0, b.1)));
@@ -103,11 +97,11 @@ fn segment_distance(a: &FibreGeom, b: &FibreGeom) -> f64 {
     (a.centre + s * a.axis).distance(b.centre + t * b.axis)
 }
 
-/// A uniform grid of cells over the capsule boxes, each cell listing the
-/// boxes that touch it (compressed rows: `start[c]..start[c + 1]`).
+/// A uniform grid of cells at least as wide as the widest capsule box,
+/// each box filed once, under the cell of its lower corner (compressed
+/// rows: `start[c]..start[c + 1]`). Two boxes that touch then have lower
+/// corners at most one cell apart on every axis.
 struct Grid {
-    lo: DVec3,
-    h: f64,
     dims: [usize; 3],
     boxes: Vec<(DVec3, DVec3)>,
     start: Vec<u32>,
@@ -127,92 +121,83 @@ impl Grid {
             .collect();
         let n = boxes.len().max(1);
         let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-        let mut extent = 0.0;
+        let mut widest: f64 = 0.0;
         for (a, b) in &boxes {
             lo = lo.min(*a);
             hi = hi.max(*b);
-            extent += (*b - *a).max_element();
+            widest = widest.max((*b - *a).max_element());
         }
         if boxes.is_empty() {
-            lo = DVec3::ZERO;
-            hi = DVec3::ONE;
+            (lo, hi) = (DVec3::ZERO, DVec3::ONE);
         }
         let span = (hi - lo).max(DVec3::splat(f64::MIN_POSITIVE));
-        let volume = span.x * span.y * span.z;
-        let h = (extent / n as f64)
-            .max((volume / (2.0 * n as f64)).cbrt())
+        // At most ~2N cells, and never narrower than the widest box.
+        let h = widest
+            .max((span.x * span.y * span.z / (2.0 * n as f64)).cbrt())
             .max(span.max_element() * 1e-6);
-        let dims = [0, 1, 2].map(|k| ((span[k] / h).floor() as usize + 1).max(1));
+        let dims = [span.x, span.y, span.z].map(|s| ((s / h) as usize + 1).max(1));
         let cells = dims[0] * dims[1] * dims[2];
-        let mut g = Grid {
-            lo,
-            h,
-            dims,
-            boxes,
-            start: vec![0; cells + 1],
-            items: vec![],
+        let inv_h = 1.0 / h;
+        let cell_of = |p: DVec3| {
+            let c = ((p - lo) * inv_h).to_array();
+            let k = |x: f64, d: usize| (x.max(0.0) as usize).min(d - 1);
+            ((k(c[2], dims[2]) * dims[1] + k(c[1], dims[1])) * dims[0] + k(c[0], dims[0])) as u32
         };
-        // Counting sort of (cell, box) entries.
-        for b in &g.boxes {
-            let start = &mut g.start;
-            Self::cells_of(b, g.lo, g.h, g.dims, |c| start[c + 1] += 1);
+        let cell: Vec<u32> = boxes.iter().map(|b| cell_of(b.0)).collect();
+        // Counting sort of the bodies by cell (ascending body order within).
+        let mut start = vec![0u32; cells + 1];
+        for &c in &cell {
+            start[c as usize + 1] += 1;
         }
         for c in 0..cells {
-            g.start[c + 1] += g.start[c];
+            start[c + 1] += start[c];
         }
-        let mut fill = g.start.clone();
-        g.items = vec![0; g.start[cells] as usize];
-        for b in 0..g.boxes.len() {
-            let (items, fill) = (&mut g.items, &mut fill);
-            Self::cells_of(&g.boxes[b], g.lo, g.h, g.dims, |c| {
-                items[fill[c] as usize] = b as u32;
-                fill[c] += 1;
-            });
+        let mut fill = start.clone();
+        let mut items = vec![0u32; boxes.len()];
+        for (b, &c) in cell.iter().enumerate() {
+            items[fill[c as usize] as usize] = b as u32;
+            fill[c as usize] += 1;
         }
-        g
-    }
-
-    fn cells(&self) -> usize {
-        self.start.len() - 1
+        Grid {
+            dims,
+            boxes,
+            start,
+            items,
+        }
     }
 
     fn members(&self, c: usize) -> &[u32] {
         &self.items[self.start[c] as usize..self.start[c + 1] as usize]
     }
 
-    fn cell_of(p: DVec3, lo: DVec3, h: f64, dims: [usize; 3]) -> [usize; 3] {
-        [0, 1, 2].map(|k| (((p[k] - lo[k]) / h).floor().max(0.0) as usize).min(dims[k] - 1))
-    }
-
-    fn index(c: [usize; 3], dims: [usize; 3]) -> usize {
-        (c[2] * dims[1] + c[1]) * dims[0] + c[0]
-    }
-
-    fn cells_of(b: &(DVec3, DVec3), lo: DVec3, h: f64, dims: [usize; 3], mut f: impl FnMut(usize)) {
-        let (a, z) = (
-            Self::cell_of(b.0, lo, h, dims),
-            Self::cell_of(b.1, lo, h, dims),
-        );
-        for k in a[2]..=z[2] {
-            for j in a[1]..=z[1] {
-                for i in a[0]..=z[0] {
-                    f(Self::index([i, j, k], dims));
+    /// Every pair `(i, j)`, `i < j`, whose boxes touch, with `i` filed in
+    /// cell `c`: each touching pair is seen once, from its lower body.
+    fn pairs_from(&self, c: usize, mut f: impl FnMut(usize, usize)) {
+        let [nx, ny, nz] = self.dims;
+        let (cx, cy, cz) = (c % nx, (c / nx) % ny, c / (nx * ny));
+        let members = self.members(c);
+        if members.is_empty() {
+            return;
+        }
+        for z in cz.saturating_sub(1)..=(cz + 1).min(nz - 1) {
+            for y in cy.saturating_sub(1)..=(cy + 1).min(ny - 1) {
+                for x in cx.saturating_sub(1)..=(cx + 1).min(nx - 1) {
+                    let other = self.members((z * ny + y) * nx + x);
+                    for &i in members {
+                        let a = &self.boxes[i as usize];
+                        for &j in other {
+                            if j <= i {
+                                continue;
+                            }
+                            let b = &self.boxes[j as usize];
+                            if a.0.cmple(b.1).all() && b.0.cmple(a.1).all() {
+                                f(i as usize, j as usize);
+                            }
+                        }
+                    }
                 }
             }
         }
-    }
-
-    /// Whether the boxes of `i` and `j` touch, and cell `c` holds the larger
-    /// of their lower corners (so each pair is tested in one cell only).
-    fn owns(&self, c: usize, i: usize, j: usize) -> bool {
-        let (a, b) = (&self.boxes[i], &self.boxes[j]);
-        if !(a.0.cmple(b.1).all() && b.0.cmple(a.1).all()) {
-            return false;
-        }
-        Self::index(
-            Self::cell_of(a.0.max(b.0), self.lo, self.h, self.dims),
-            self.dims,
-        ) == c
     }
 }
 

@@ -61,7 +61,12 @@ pub enum Size {
 impl Size {
     /// Parse `0.01`, `uniform:0.008:0.012` or `normal:0.01:0.001`.
     pub fn parse(s: &str) -> Option<Size> {
-        let num = |t: &str| t.trim().parse::<f64>().ok().filter(|x| x.is_finite() && *x > 0.0);
+        let num = |t: &str| {
+            t.trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite() && *x > 0.0)
+        };
         let parts: Vec<&str> = s.split(':').collect();
         let size = match parts.as_slice() {
             [x] => Size::Fixed(num(x)?),
@@ -157,7 +162,10 @@ mod tests {
             s2 += x * x;
         }
         let (m, v) = (s1 / n as f64, s2 / n as f64 - (s1 / n as f64).powi(2));
-        assert!((m - 0.5).abs() < 3e-3 && (v - 1.0 / 12.0).abs() < 2e-3, "{m} {v}");
+        assert!(
+            (m - 0.5).abs() < 3e-3 && (v - 1.0 / 12.0).abs() < 2e-3,
+            "{m} {v}"
+        );
         let sz = Size::Normal(1.0, 0.1);
         let (mut s1, mut s2) = (0.0, 0.0);
         for _ in 0..n {
@@ -168,7 +176,10 @@ mod tests {
         }
         // The ±3σ cut normal has variance σ² (1 − 6φ(3)/(2Φ(3) − 1)) = 0.9733 σ².
         let (m, v) = (s1 / n as f64, s2 / n as f64 - (s1 / n as f64).powi(2));
-        assert!((m - 1.0).abs() < 1e-3 && (v / 0.01 - 0.9733).abs() < 0.02, "{m} {v}");
+        assert!(
+            (m - 1.0).abs() < 1e-3 && (v / 0.01 - 0.9733).abs() < 0.02,
+            "{m} {v}"
+        );
         let mut sq = DVec3::ZERO;
         for _ in 0..n {
             let a = r.unit_vector();
@@ -176,10 +187,16 @@ mod tests {
             sq += a * a;
         }
         let sq = sq / n as f64;
-        assert!((sq - DVec3::splat(1.0 / 3.0)).abs().max_element() < 4e-3, "{sq}");
+        assert!(
+            (sq - DVec3::splat(1.0 / 3.0)).abs().max_element() < 4e-3,
+            "{sq}"
+        );
         let q = Orientation::Planar(DVec3::Z).draw(&mut r);
         assert!((q * DVec3::X).z.abs() < 1e-15);
-        assert_eq!(Size::parse("uniform:0.008:0.012"), Some(Size::Uniform(0.008, 0.012)));
+        assert_eq!(
+            Size::parse("uniform:0.008:0.012"),
+            Some(Size::Uniform(0.008, 0.012))
+        );
         assert_eq!(Size::parse("normal:0.01:0.004"), None);
         assert_eq!(Size::parse("-1"), None);
     }

@@ -153,6 +153,7 @@ impl Summary {
 pub struct SummaryJson {
     path: PathBuf,
     every: u64,
+    settle: Option<crate::run::Settle>,
     /// The summary, once the run has ended.
     pub summary: Option<Summary>,
 }
@@ -163,14 +164,22 @@ impl SummaryJson {
         SummaryJson {
             path: dir.join("summary.json"),
             every,
+            settle: None,
             summary: None,
         }
+    }
+
+    /// Record whether the final state meets `settle` (`fibresim settle`).
+    pub fn with_settle(mut self, settle: Option<crate::run::Settle>) -> Self {
+        self.settle = settle;
+        self
     }
 }
 
 impl Observer for SummaryJson {
     fn finish(&mut self, v: &View, end: &RunEnd) -> Result<()> {
-        let s = Summary::of(v, end, self.every);
+        let mut s = Summary::of(v, end, self.every);
+        s.settled = self.settle.map(|t| t.reached(v.world));
         s.write(&self.path)?;
         self.summary = Some(s);
         Ok(())

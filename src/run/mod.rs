@@ -83,7 +83,7 @@ fn run_observed(
     let mut orientation =
         with_orientation.then(|| OrientationCsv::new(dir, every, scene.reference.is_some()));
     let mut progress = progress;
-    let mut summary = SummaryJson::new(dir, every);
+    let mut summary = SummaryJson::new(dir, every).with_settle(opts.settle);
     let checkpoint_path = dir.join(CHECKPOINT_FILE);
     let mut checkpoint = CheckpointFile {
         path: checkpoint_path.clone(),
@@ -109,13 +109,9 @@ fn run_observed(
         crate::scenario::body_file::write(path, &scene.ids, &scene.bodies, &w.states, &names)?;
     }
     driver::outcome(finished.stopped)?;
-    let mut s = summary
+    Ok(summary
         .summary
-        .expect("the summary observer has run at the end of the drive");
-    if opts.settle.is_some() {
-        s.settled = Some(finished.settled);
-    }
-    Ok(s)
+        .expect("the summary observer has run at the end of the drive"))
 }
 
 /// Integrate `scene` with its rotator, without writing anything, calling

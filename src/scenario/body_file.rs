@@ -91,12 +91,13 @@ pub(super) fn read(
     // Material name → id, looked up without allocating per row.
     let mut by_name: HashMap<String, MaterialId> = HashMap::new();
     let mut seen: HashSet<u64> = HashSet::new();
-    let mut text = String::new();
+    // Bytes, not a String per line: fields are checked as UTF-8 one by one.
+    let mut text: Vec<u8> = Vec::with_capacity(512);
     let mut line = 0usize;
     let mut header = false;
     loop {
         text.clear();
-        let n = r.read_line(&mut text).map_err(|e| {
+        let n = r.read_until(b'\n', &mut text).map_err(|e| {
             Error::bad(
                 shown,
                 "bodies.file",
@@ -107,12 +108,16 @@ pub(super) fn read(
             break;
         }
         line += 1;
-        let row = text.trim_end_matches(['\n', '\r']);
-        if row.trim().is_empty() || row.starts_with('#') {
+        let mut row: &[u8] = &text;
+        while let [rest @ .., b'\n' | b'\r'] = row {
+            row = rest;
+        }
+        if row.iter().all(u8::is_ascii_whitespace) || row.first() == Some(&b'#') {
             continue;
         }
         let at = At { file: shown, line };
         if !header {
+            let row = String::from_utf8_lossy(row);
             let got: Vec<&str> = row.split(',').map(str::trim).collect();
             if got != COLUMNS {
                 return Err(Error::BadInput {
@@ -155,9 +160,15 @@ pub(super) fn read(
     Ok(out)
 }
 
+/// Field `f` as trimmed text (`\u{fffd}` where it is not UTF-8, which no
+/// number or material name matches).
+fn text(f: &[u8]) -> &str {
+    std::str::from_utf8(f).map_or("\u{fffd}", str::trim)
+}
+
 /// One row into `(id, body, state)`.
 fn parse_row(
-    row: &str,
+    row: &[u8],
     at: &At,
     named: &BTreeMap<String, MaterialSection>,
     materials: &mut super::bodies::Materials,
@@ -165,7 +176,7 @@ fn parse_row(
 ) -> Result<(u64, Body, BodyState)> {
     let mut fields = [""; 17];
     let mut n = 0;
-    for f in row.split(',') {
+    for f in row.split(|&b| b == b',') {
         if n == 17 {
             return Err(at.err(
                 17,
@@ -175,7 +186,7 @@ fn parse_row(
                 ),
             ));
         }
-        fields[n] = f.trim();
+        fields[n] = text(f);
         n += 1;
     }
     if n < 17 {

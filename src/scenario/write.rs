@@ -61,7 +61,12 @@ impl fmt::Display for BedScenario<'_> {
         for c in &self.comment {
             writeln!(s, "# {c}")?;
         }
-        writeln!(s, "\n[simulation]\ndt = {}\nt_end = {}", num(self.dt), num(self.t_end))?;
+        writeln!(
+            s,
+            "\n[simulation]\ndt = {}\nt_end = {}",
+            num(self.dt),
+            num(self.t_end)
+        )?;
         if let Some(g) = self.gravity {
             writeln!(s, "\n[world]\ngravity = {}", vec3(g))?;
         }
