@@ -82,13 +82,20 @@ pub(crate) struct Damping {
     pub(crate) dissipated: f64,
 }
 
-/// One force computation's view of the damping: the constants, the
-/// velocities, and the per-body loads it adds to.
-pub(crate) struct DampingPass<'a> {
+/// What a damping force needs to read: the constants and the velocities
+/// (shared by the serial stage and the parallel one's threads).
+#[derive(Clone, Copy)]
+pub(crate) struct DampingView<'a> {
     alpha_pair: f64,
     alpha_wall: f64,
     bodies: &'a [Body],
     states: &'a [BodyState],
+}
+
+/// One serial force computation's view of the damping: the velocities, and
+/// the per-body loads it adds to.
+pub(crate) struct DampingPass<'a> {
+    view: DampingView<'a>,
     force: &'a mut [DVec3],
     torque: &'a mut [DVec3],
 }
@@ -115,16 +122,31 @@ impl Damping {
         bodies: &'a [Body],
         states: &'a [BodyState],
     ) -> DampingPass<'a> {
-        self.force.fill(DVec3::ZERO);
-        self.torque.fill(DVec3::ZERO);
+        let view = self.view(bodies, states);
+        let (force, torque) = self.loads();
         DampingPass {
+            view,
+            force,
+            torque,
+        }
+    }
+
+    /// The constants and velocities of a computation at `states`.
+    pub(crate) fn view<'a>(&self, bodies: &'a [Body], states: &'a [BodyState]) -> DampingView<'a> {
+        DampingView {
             alpha_pair: self.alpha_pair,
             alpha_wall: self.alpha_wall,
             bodies,
             states,
-            force: &mut self.force,
-            torque: &mut self.torque,
         }
+    }
+
+    /// This computation's damping force and torque per body (world),
+    /// zeroed, for the stage to add to in its summation order.
+    pub(crate) fn loads(&mut self) -> (&mut [DVec3], &mut [DVec3]) {
+        self.force.fill(DVec3::ZERO);
+        self.torque.fill(DVec3::ZERO);
+        (&mut self.force, &mut self.torque)
     }
 
     /// Close the computation: `force` holds the stage's total contact force
@@ -160,14 +182,40 @@ impl Damping {
 }
 
 impl DampingPass<'_> {
-    /// The damping force `η(δ) δ̇` (to add to the Hertz force along the
-    /// point's normal) of a point of weight `w` at `p` with `normal` and
-    /// `overlap`, between body `a` and body `b` (or a wall), with Hertz
-    /// stiffness `k`; its load is noted for the ledger.
+    /// [`DampingView::force`], its load noted for the ledger.
     #[inline]
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn force(
         &mut self,
+        (a, xa): (usize, DVec3),
+        b: Option<(usize, DVec3)>,
+        k: f64,
+        w: f64,
+        p: DVec3,
+        normal: DVec3,
+        overlap: f64,
+    ) -> f64 {
+        let f = self.view.force((a, xa), b, k, w, p, normal, overlap);
+        let fv = f * normal;
+        self.force[a] += fv;
+        self.torque[a] += (p - xa).cross(fv);
+        if let Some((b, xb)) = b {
+            self.force[b] -= fv;
+            self.torque[b] -= (p - xb).cross(fv);
+        }
+        f
+    }
+}
+
+impl DampingView<'_> {
+    /// The damping force `η(δ) δ̇` (to add to the Hertz force along the
+    /// point's normal) of a point of weight `w` at `p` with `normal` and
+    /// `overlap`, between body `a` and body `b` (or a wall), with Hertz
+    /// stiffness `k`.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn force(
+        &self,
         (a, xa): (usize, DVec3),
         b: Option<(usize, DVec3)>,
         k: f64,
@@ -190,15 +238,7 @@ impl DampingPass<'_> {
         };
         // δ̇ = −normal·(v_A(p) − v_B(p)) (normal = −∂δ/∂x_A).
         let rate = -normal.dot(rel);
-        let f = w * alpha * (m * k).sqrt() * overlap.sqrt().sqrt() * rate;
-        let fv = f * normal;
-        self.force[a] += fv;
-        self.torque[a] += (p - xa).cross(fv);
-        if let Some((b, xb)) = b {
-            self.force[b] -= fv;
-            self.torque[b] -= (p - xb).cross(fv);
-        }
-        f
+        w * alpha * (m * k).sqrt() * overlap.sqrt().sqrt() * rate
     }
 }
 

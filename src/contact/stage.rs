@@ -250,7 +250,11 @@ impl ContactStage {
             force,
             torque,
             &mut self.counters,
+            self.damping.as_mut().map(|d| (d, bodies, states)),
         );
+        if let Some(d) = &mut self.damping {
+            d.account(bodies, states, force);
+        }
     }
 }
 
