@@ -201,7 +201,6 @@ impl ContactStage {
                 damping.as_mut(),
             );
         }
-        drop(damping);
         if let Some(d) = &mut self.damping {
             d.account(bodies, states, force);
         }
