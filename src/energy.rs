@@ -15,6 +15,9 @@ pub struct Ledger {
     pub rotation: f64,
     /// `Σ U` over live contacts (Hertz, docs/physics.md §3).
     pub elastic: f64,
+    /// Energy removed by contact damping since step 0 (`[contact]`
+    /// restitution; 0 in elastic scenes), J.
+    pub dissipated: f64,
 }
 
 impl Ledger {
@@ -51,9 +54,10 @@ impl Ledger {
         self.gravity + self.translation + self.rotation
     }
 
-    /// Eq. 64 plus the elastic energy of live contacts: the conserved budget.
+    /// Eq. 64 plus the elastic energy of live contacts and the energy
+    /// dissipated so far: the conserved budget.
     pub fn total_full(&self) -> f64 {
-        self.total() + self.elastic
+        self.total() + self.elastic + self.dissipated
     }
 }
 

@@ -185,14 +185,16 @@ fn check_prints_mass_inertia_hertz_and_rayleigh_times() {
     assert!((margin / (rec / 1e-7) - 1.0).abs() < 1e-3, "{line}");
 }
 
-/// Nine fibres: a fibre–fibre pair sums both bodies' 1/m_eff and their speed bounds.
+/// Nine fibres: a fibre–fibre pair sums both bodies' 1/m_eff and their
+/// speed bounds, each bound from one body's own energy (the highest body's).
 #[test]
 fn check_pairs_sum_effective_masses_and_speeds() {
     let out = stdout(&fibresim(&["check", "scenarios/nine_fibres.toml"]));
     let f = TC1;
     let m = f.mass();
-    // Nine bodies at v = (1, -1, 0) on the grid x, z ∈ {0.25, 0.5, 0.75}.
-    let energy = 9.0 * 0.5 * m * 2.0 + 3.0 * m * 9.81 * (0.25 + 0.5 + 0.75);
+    // Nine bodies at v = (1, -1, 0) on the grid x, z ∈ {0.25, 0.5, 0.75}:
+    // the top row brings the most, ½ m |v|² + m g 0.75.
+    let energy = 0.5 * m * 2.0 + m * 9.81 * 0.75;
     close(numbers_after(&out, "E_avail = ")[0], energy, "E_avail");
     let m_eff = f.worst_effective_mass();
     let row = numbers_after(line_with(&out, "same kind"), "same kind");
@@ -323,4 +325,36 @@ fn check_rejects_non_physical_speeds() {
         assert!(err.contains(key) && err.contains("speed of light"), "{err}");
         assert!(o.stdout.is_empty());
     }
+}
+
+/// `--impact-speed V` times every collision at V (the approach speed of a
+/// pair, the speed of a wall impact) instead of the energy bound.
+#[test]
+fn impact_speed_replaces_the_bound() {
+    let out = stdout(&fibresim(&[
+        "check",
+        "scenarios/nine_fibres.toml",
+        "--impact-speed",
+        "3",
+    ]));
+    let f = TC1;
+    let m_eff = f.worst_effective_mass();
+    assert!(out.contains("impact speed given: v_max = 3e0 m/s"), "{out}");
+    let row = numbers_after(line_with(&out, "same kind"), "same kind");
+    close(row[2], 3.0, "v_max of a pair");
+    let t_h = hertz_time(m_eff / 2.0, f.d / 4.0, e_star(f.e, f.nu, f.e, f.nu), 3.0);
+    close(row[3], t_h, "t_Hertz of a pair");
+    let wall = numbers_after(line_with(&out, "–wall"), "–wall");
+    close(
+        wall[3],
+        hertz_time(m_eff, f.d / 2.0, e_star(f.e, f.nu, 5e7, 0.23), 3.0),
+        "t_Hertz on a wall",
+    );
+    let o = fibresim(&[
+        "check",
+        "scenarios/nine_fibres.toml",
+        "--impact-speed",
+        "-1",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
 }

@@ -38,9 +38,30 @@ fn run(dir: &Path, scene: &Path, threads: Option<&str>, env: Option<&str>) -> (S
 
 #[test]
 fn output_bytes_do_not_depend_on_the_thread_count() {
+    same_bytes_with_any_thread_count(&common::packed_scene(6, 8, 8, 6e-4));
+}
+
+/// With damping (`[contact] restitution`): the damping forces and their
+/// per-body loads (the ledger's `e_dissipated`) go through the parallel
+/// stage's slots in the serial order too.
+#[test]
+fn damped_output_bytes_do_not_depend_on_the_thread_count() {
+    let scene = common::packed_scene(6, 8, 8, 6e-4) + "[contact]\nrestitution = 0.5\n";
+    let energy = same_bytes_with_any_thread_count(&scene);
+    let last = energy.lines().last().unwrap();
+    let dissipated: f64 = last.rsplit(',').next().unwrap().parse().unwrap();
+    assert!(
+        energy.lines().next().unwrap().ends_with(",e_dissipated") && dissipated > 0.0,
+        "the damping dissipates: {last}"
+    );
+}
+
+/// Runs `text` with 1, 2, 4 and `RAYON_NUM_THREADS=3` threads, asserts the
+/// same bytes, and returns the one-thread `energy.csv`.
+fn same_bytes_with_any_thread_count(text: &str) -> String {
     let dir = tempfile::tempdir().unwrap();
     let scene = dir.path().join("packed.toml");
-    std::fs::write(&scene, common::packed_scene(6, 8, 8, 6e-4)).unwrap();
+    std::fs::write(&scene, text).unwrap();
     let one = run(dir.path(), &scene, Some("1"), None);
     let contacts: u64 = one
         .0
@@ -64,6 +85,7 @@ fn output_bytes_do_not_depend_on_the_thread_count() {
             "summary.json differs with {threads:?} {env:?}"
         );
     }
+    one.0
 }
 
 #[test]

@@ -29,13 +29,23 @@ impl fmt::Display for CheckReport<'_> {
             f,
             "\nbodies (mass kg; principal inertia kg m^2, body x y z):"
         )?;
-        for (i, b) in scene.bodies.iter().enumerate() {
+        // A bed lists its first bodies only.
+        const LISTED: usize = 20;
+        for (i, b) in scene.bodies.iter().enumerate().take(LISTED) {
             let p = b.inertia.principal;
             writeln!(
                 f,
                 "  [{i}] {:<10} {:?}  m = {:.4e}  I = ({:.4e}, {:.4e}, {:.4e})",
-                scene.names[i], b.shape, b.mass, p.x, p.y, p.z
+                scene.name(i),
+                b.shape,
+                b.mass,
+                p.x,
+                p.y,
+                p.z
             )?;
+        }
+        if scene.bodies.len() > LISTED {
+            writeln!(f, "  ... and {} more", scene.bodies.len() - LISTED)?;
         }
         let search = match scene.bodies.len() {
             _ if !scene.needs_contacts() => "off".to_string(),
@@ -50,10 +60,16 @@ impl fmt::Display for CheckReport<'_> {
             scene.torques.len(),
             if scene.reference.is_some() { "yes" } else { "no" })?;
         if !a.pairs.is_empty() {
-            writeln!(f, "\nimpact speeds bounded by energy conservation: E_avail = {:.4e} J (all of it into one body)", a.available_energy)?;
+            match a.impact_speed {
+                Some(v) => writeln!(f, "\nimpact speed given: v_max = {v:e} m/s for every pair (--impact-speed)")?,
+                None => writeln!(f, "\nimpact speeds bounded per body: E_i = its kinetic + rotational energy + its fall to the box floor; largest E_avail = {:.4e} J", a.available_energy)?,
+            }
+            if a.grouped_by_material {
+                writeln!(f, "  (more than 16 fibre sizes: grouped by material, each group as its lightest fibre at its fastest speed)")?;
+            }
             writeln!(f, "m* = effective mass at the worst contact point: 1/m_eff = 1/m + |r x n|^2 / I_transverse, lever arm")?;
             writeln!(f, "  |r x n| = max(D/2, L/2) (a fibre's end hit along its side normal); a pair sums 1/m_eff of its bodies")?;
-            writeln!(f, "  and their bounds v_max = sqrt(2 E_avail / m_eff); m_trans = the translational mass alone, for comparison;")?;
+            writeln!(f, "  and their bounds v_max = sqrt(2 E_i / m_eff) (largest of the kind); m_trans = the translational mass alone;")?;
             writeln!(f, "  t_tilt = period of an end face rocking on the contact under the peak force of that impact")?;
             writeln!(
                 f,

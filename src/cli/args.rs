@@ -53,6 +53,131 @@ pub enum Command {
     Plot(PlotArgs),
     /// Stress suite: every stress case x rotator over dt = factor x the recommended dt, far past the limit; table and stability map.
     Stress(StressArgs),
+    /// Write a scenario with N non-overlapping fibres in a box, and its body file (random sequential placement on a cell grid).
+    Generate(GenerateArgs),
+    /// Run a scenario with damping until its kinetic energy per fibre is below a threshold, then write the settled bed (an elastic scenario and its body file).
+    Settle(SettleArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct GenerateArgs {
+    /// Number of fibres.
+    #[arg(long)]
+    pub n: usize,
+    /// Fibre diameter, m: a number, `uniform:MIN:MAX` or `normal:MEAN:SD` (cut at 3 SD).
+    #[arg(long)]
+    pub diameter: String,
+    /// Fibre length, m: a number, `uniform:MIN:MAX` or `normal:MEAN:SD`.
+    #[arg(long)]
+    pub length: String,
+    /// The box (its walls): LX,LY,LZ from the origin, m.
+    #[arg(long = "box", value_name = "LX,LY,LZ")]
+    pub box_size: String,
+    /// Where the fibres go: X0,Y0,Z0,X1,Y1,Z1 inside the box [default: the whole box].
+    #[arg(long)]
+    pub region: Option<String>,
+    /// Axis distribution: isotropic, aligned (along --axis) or planar (in the plane normal to --axis).
+    #[arg(long, default_value = "isotropic")]
+    pub orientation: String,
+    /// The axis of `aligned`, the normal of `planar`.
+    #[arg(long, default_value = "0,0,1", allow_hyphen_values = true)]
+    pub axis: String,
+    /// Initial speed, m/s, in a random direction per fibre.
+    #[arg(long, default_value_t = 0.0)]
+    pub speed: f64,
+    /// Initial velocity VX,VY,VZ of every fibre, m/s (instead of --speed).
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "speed")]
+    pub velocity: Option<String>,
+    /// Angular speed about a random axis normal to each fibre, rad/s.
+    #[arg(long, default_value_t = 0.0)]
+    pub spin: f64,
+    /// Seed of the random draws (same seed, same bytes).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Smallest gap between two fibres' surfaces (and a fibre and a wall) [default: D/20].
+    #[arg(long)]
+    pub gap: Option<f64>,
+    /// Candidates tried per fibre before the region counts as jammed.
+    #[arg(long, default_value_t = 10_000)]
+    pub max_attempts: u64,
+    /// Fibre density, kg/m^3.
+    #[arg(long, default_value_t = 1100.0)]
+    pub density: f64,
+    /// Fibre Young's modulus, Pa.
+    #[arg(long, default_value_t = 5e7)]
+    pub young: f64,
+    /// Fibre Poisson ratio.
+    #[arg(long, default_value_t = 0.35)]
+    pub poisson: f64,
+    /// Wall Young's modulus, Pa [default: the fibres'].
+    #[arg(long)]
+    pub wall_young: Option<f64>,
+    /// Wall Poisson ratio [default: the fibres'].
+    #[arg(long)]
+    pub wall_poisson: Option<f64>,
+    /// Gravity GX,GY,GZ, m/s^2, or `none`.
+    #[arg(long, default_value = "0,0,-9.81", allow_hyphen_values = true)]
+    pub gravity: String,
+    /// Coefficient of restitution of the written scenario, in (0, 1] (1: elastic, no [contact] table).
+    #[arg(long, default_value_t = 1.0)]
+    pub restitution: f64,
+    /// The scenario's time step, s.
+    #[arg(long, default_value_t = 1e-6)]
+    pub dt: f64,
+    /// The scenario's end time, s.
+    #[arg(long = "t-end", default_value_t = 0.01)]
+    pub t_end: f64,
+    /// The scenario to write (the body file goes beside it as <stem>_bodies.csv).
+    #[arg(long, short)]
+    pub out: PathBuf,
+    /// Print nothing on success.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct SettleArgs {
+    /// Scenario TOML file (a generated bed, for example).
+    pub scenario: PathBuf,
+    /// Coefficient of restitution while settling (fibre-fibre and fibre-wall) [default: the scenario's [contact]].
+    #[arg(long)]
+    pub restitution: Option<f64>,
+    /// Time step while settling, s [default: the scenario's].
+    #[arg(long)]
+    pub dt: Option<f64>,
+    /// Give up after this simulated time, s [default: the scenario's t_end].
+    #[arg(long = "t-end")]
+    pub t_end: Option<f64>,
+    /// Settled when the kinetic energy (translation + rotation) per fibre is at most this, J [default: 1e-4 x the mean m g D].
+    #[arg(long)]
+    pub ke_per_fibre: Option<f64>,
+    /// Test the threshold every N steps.
+    #[arg(long, default_value_t = 100)]
+    pub check_every: u64,
+    /// The settled scenario to write (elastic; its body file goes beside it as <stem>_bodies.csv).
+    #[arg(long)]
+    pub write: PathBuf,
+    /// Time step of the written scenario, s [default: the settling one].
+    #[arg(long)]
+    pub write_dt: Option<f64>,
+    /// End time of the written scenario, s [default: 100 steps of --write-dt].
+    #[arg(long)]
+    pub write_t_end: Option<f64>,
+    /// Output folder of the settling run (energy.csv, summary.json) [default: out/<scenario>/settle].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Write one output row every N steps.
+    #[arg(long)]
+    pub every: Option<u64>,
+    /// Run even when dt leaves fewer than 5 steps per Hertz collision.
+    #[arg(long)]
+    pub allow_large_dt: bool,
+    /// Impact speed for the time-step advice, m/s (instead of the per-body energy bound).
+    #[arg(long)]
+    pub impact_speed: Option<f64>,
+    /// No progress bar and no summary on stdout.
+    #[arg(long, short)]
+    pub quiet: bool,
 }
 
 #[derive(Debug, Args)]
@@ -170,6 +295,9 @@ pub struct CheckArgs {
     /// Judge this time step instead of simulation.dt.
     #[arg(long)]
     pub dt: Option<f64>,
+    /// Time collisions at this impact speed, m/s, instead of the per-body energy bound.
+    #[arg(long)]
+    pub impact_speed: Option<f64>,
 }
 
 #[derive(Debug, Args)]
@@ -206,6 +334,9 @@ pub struct RunArgs {
     /// Run even when dt leaves fewer than 5 steps per Hertz collision (normally refused as bad input).
     #[arg(long)]
     pub allow_large_dt: bool,
+    /// Time collisions at this impact speed, m/s, for the advice (instead of the per-body energy bound).
+    #[arg(long)]
+    pub impact_speed: Option<f64>,
     /// No progress bar and no summary on stdout.
     #[arg(long, short)]
     pub quiet: bool,

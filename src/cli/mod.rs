@@ -62,6 +62,24 @@ pub fn execute(cli: Cli) -> Result<()> {
             println!("{}", out.display());
             Ok(())
         }
+        Command::Generate(args) => {
+            let quiet = args.quiet;
+            let opts = args.plan(command_line())?;
+            let r = crate::generate::generate(&opts)?;
+            if !quiet {
+                println!(
+                    "placed {} fibres in {} attempts: volume fraction {:.4} of the region, {:.4} of the box\n-> {} (bodies: {})",
+                    r.placed,
+                    r.attempts,
+                    r.volume_fraction,
+                    r.box_fraction,
+                    r.scenario.display(),
+                    r.body_file.display()
+                );
+            }
+            Ok(())
+        }
+        Command::Settle(args) => settle(args.plan()?),
         Command::Stress(args) => {
             use crate::study::stress::{print_report, stress};
             let (cases, opts) = args.plan()?;
@@ -147,4 +165,84 @@ fn run(plan: plan::RunPlan) -> Result<()> {
         _ => {}
     }
     outcome.map(|_| ())
+}
+
+/// The command line as typed, with the program called `fibresim` (for the
+/// header of the files a command writes).
+fn command_line() -> String {
+    std::iter::once("fibresim".to_string())
+        .chain(std::env::args().skip(1))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// `fibresim settle`: run with damping until the bed is still, then write
+/// the settled bed as an elastic scenario and its body file.
+fn settle(plan: plan::SettlePlan) -> Result<()> {
+    for w in &plan.advice.warnings {
+        eprintln!("warning: {w}");
+    }
+    let _ = ctrlc::set_handler(|| {
+        crate::run::INTERRUPTED.store(true, std::sync::atomic::Ordering::Relaxed)
+    });
+    let scene = &plan.scene;
+    let s = crate::run::run(scene, &plan.opts)?;
+    let settle = plan.opts.settle.expect("a settle plan has a settle test");
+    let body_file = crate::generate::body_file_of(&plan.write);
+    let n = scene.bodies.len() as f64;
+    let (ke, settled) = (s.kinetic_final, s.settled == Some(true));
+    let text = crate::scenario::write::BedScenario {
+        comment: vec![
+            format!("Settled by: {}", command_line()),
+            format!(
+                "from {} ({} fibres): {} after {} steps of {:e} s (t = {:e} s), kinetic energy {:.3e} J per fibre (threshold {:.3e} J).",
+                scene.source,
+                scene.bodies.len(),
+                if settled { "settled" } else { "NOT settled (t_end reached)" },
+                s.steps,
+                s.dt,
+                s.steps as f64 * s.dt,
+                ke / n,
+                settle.ke_per_body
+            ),
+            "Elastic (no damping); the resting contacts overlap, hence guards.start_overlap_ratio.".into(),
+        ],
+        dt: plan.write_dt,
+        t_end: plan.write_t_end,
+        gravity: scene.gravity,
+        walls: scene.walls.as_ref(),
+        materials: &scene.materials,
+        restitution: None,
+        start_overlap_ratio: Some(crate::generate::SETTLED_START_OVERLAP),
+        body_file: &body_file
+            .file_name()
+            .map_or(String::new(), |f| f.to_string_lossy().into_owned()),
+    };
+    std::fs::write(&plan.write, text.to_string()).map_err(|e| Error::io(&plan.write, e))?;
+    if !plan.quiet {
+        println!(
+            "{}: {} after {} steps of {:e} s in {:.1} s ({:.3e} fibre-steps/s); kinetic energy {:.3e} J per fibre (threshold {:.3e} J), dissipated {:.4e} J\n-> {} (bodies: {}); run outputs in {}",
+            scene.source,
+            if settled { "settled" } else { "not settled by t_end" },
+            s.steps,
+            s.dt,
+            s.wall_s,
+            s.steps as f64 * n / s.wall_s.max(1e-9),
+            ke / n,
+            settle.ke_per_body,
+            s.energy_dissipated.unwrap_or(0.0),
+            plan.write.display(),
+            body_file.display(),
+            plan.opts.out_dir.display()
+        );
+    }
+    if settled {
+        Ok(())
+    } else {
+        Err(Error::bad(
+            &scene.source,
+            "--t-end",
+            format!("the bed did not settle by t = {:e} s (kinetic energy {:.3e} J per fibre); the unsettled bed was written anyway; give a longer --t-end", s.steps as f64 * s.dt, ke / n),
+        ))
+    }
 }

@@ -2,15 +2,24 @@
 //! "args → checked objects"): every flag check lives here, so the commands
 //! only execute.
 
-use super::args::{CheckArgs, CompareArgs, ConvergeArgs, RunArgs, StressArgs};
-use crate::advice::{advise, Advice};
+use super::args::{
+    CheckArgs, CompareArgs, ConvergeArgs, GenerateArgs, RunArgs, SettleArgs, StressArgs,
+};
+use crate::advice::{advise_with, Advice};
+use crate::contact::damping::Restitution;
 use crate::error::{Error, Result};
+use crate::generate::{
+    place::Placement,
+    sample::{Orientation, Size},
+    GenerateOptions, Velocity,
+};
 use crate::output::Checkpoint;
 use crate::run::RunOptions;
 use crate::scenario::{self, Scene, SimParams};
 use crate::study::compare::CompareOptions;
 use crate::study::converge::ConvergeOptions;
 use crate::study::stress::{load_cases, StressCase, StressOptions};
+use glam::DVec3;
 use std::path::{Path, PathBuf};
 
 /// The default scene of `fibresim run` with no scenario.
@@ -108,7 +117,18 @@ impl RunArgs {
                 "must be >= 1",
             ));
         }
-        let advice = advise(&scene);
+        if scene.damping.is_some() && (self.checkpoint_every.is_some() || checkpoint.is_some()) {
+            return Err(Error::bad(
+                &scene.source,
+                "--checkpoint-every",
+                "checkpoints of scenes with damping ([contact] restitution < 1) are not supported yet: their forces depend on the half-step velocities, which a checkpoint does not hold; run without --checkpoint-every",
+            ));
+        }
+        let impact = self
+            .impact_speed
+            .map(|v| positive_flag("--impact-speed", v))
+            .transpose()?;
+        let advice = advise_with(&scene, impact);
         if let Some(limit) = advice.hard_limit_dt {
             let dt = scene.sim.dt();
             if dt > limit && !self.allow_large_dt {
@@ -140,6 +160,7 @@ impl RunArgs {
                 out_dir: self.out.unwrap_or(default_out),
                 progress: !self.quiet,
                 checkpoint_every: self.checkpoint_every,
+                ..Default::default()
             },
             resume: checkpoint.zip(checkpoint_dir),
             scene,
@@ -158,7 +179,11 @@ impl CheckArgs {
             scene.sim =
                 SimParams::new(dt, s.t_end(), s.rotator(), s.every(), "command line", "--")?;
         }
-        let advice = advise(&scene);
+        let impact = self
+            .impact_speed
+            .map(|v| positive_flag("--impact-speed", v))
+            .transpose()?;
+        let advice = advise_with(&scene, impact);
         Ok(CheckPlan { scene, advice })
     }
 }
@@ -231,5 +256,316 @@ impl StressArgs {
             progress: !self.quiet,
         };
         Ok((load_cases(&self.dir, &self.cases)?, opts))
+    }
+}
+
+/// `N` comma-separated finite numbers of flag `flag`.
+fn numbers<const N: usize>(flag: &str, s: &str, what: &str) -> Result<[f64; N]> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<std::result::Result<_, _>>()
+        .unwrap_or_default();
+    match <[f64; N]>::try_from(v) {
+        Ok(a) if a.iter().all(|x| x.is_finite()) => Ok(a),
+        _ => Err(Error::bad(
+            "command line",
+            flag,
+            format!("`{s}` is not {N} comma-separated numbers; give {what}"),
+        )),
+    }
+}
+
+/// A size flag: a number, `uniform:MIN:MAX` or `normal:MEAN:SD`.
+fn size_flag(flag: &str, s: &str) -> Result<Size> {
+    Size::parse(s).ok_or_else(|| {
+        Error::bad(
+            "command line",
+            flag,
+            format!("`{s}` is not a size; give a length in m (0.01), uniform:MIN:MAX (0 < MIN <= MAX) or normal:MEAN:SD (MEAN > 3 SD)"),
+        )
+    })
+}
+
+/// A restitution flag in (0, 1].
+fn restitution_flag(flag: &str, e: f64) -> Result<f64> {
+    if e.is_finite() && e > 0.0 && e <= 1.0 {
+        Ok(e)
+    } else {
+        Err(Error::bad(
+            "command line",
+            flag,
+            format!("a coefficient of restitution must lie in (0, 1], got {e}; give e.g. 0.3"),
+        ))
+    }
+}
+
+/// A Poisson-ratio flag in (−1, 0.5).
+fn poisson_flag(flag: &str, v: f64) -> Result<f64> {
+    if v.is_finite() && v > -1.0 && v < 0.5 {
+        Ok(v)
+    } else {
+        Err(Error::bad(
+            "command line",
+            flag,
+            format!("Poisson's ratio must lie in (-1, 0.5), got {v}; give e.g. 0.35"),
+        ))
+    }
+}
+
+impl GenerateArgs {
+    /// Check every flag into the generator's options.
+    pub fn plan(self, command: String) -> Result<GenerateOptions> {
+        if self.n == 0 {
+            return Err(Error::bad("command line", "--n", "give at least one fibre"));
+        }
+        let size = numbers::<3>("--box", &self.box_size, "LX,LY,LZ in m, e.g. 0.3,0.3,1.2")?;
+        let size = DVec3::from_array(size);
+        if size.min_element() <= 0.0 {
+            return Err(Error::bad(
+                "command line",
+                "--box",
+                format!("every side must be > 0, got {size}"),
+            ));
+        }
+        let diameter = size_flag("--diameter", &self.diameter)?;
+        let length = size_flag("--length", &self.length)?;
+        let gap = match self.gap {
+            Some(g) if g.is_finite() && g >= 0.0 => g,
+            Some(g) => {
+                return Err(Error::bad(
+                    "command line",
+                    "--gap",
+                    format!("must be >= 0, got {g}"),
+                ))
+            }
+            None => diameter.mean() / 20.0,
+        };
+        // The fibres keep `gap` from the walls too.
+        let (lo, hi) = match &self.region {
+            None => (DVec3::ZERO, size),
+            Some(r) => {
+                let r = numbers::<6>("--region", r, "X0,Y0,Z0,X1,Y1,Z1 inside the box")?;
+                let (lo, hi) = (DVec3::new(r[0], r[1], r[2]), DVec3::new(r[3], r[4], r[5]));
+                if !(lo.cmpge(DVec3::ZERO).all() && hi.cmple(size).all() && lo.cmplt(hi).all()) {
+                    return Err(Error::bad("command line", "--region", format!("{lo} .. {hi} must lie inside the box 0 .. {size}, lower corner below the upper")));
+                }
+                (lo, hi)
+            }
+        };
+        let region = (lo + DVec3::splat(gap), hi - DVec3::splat(gap));
+        if (region.1 - region.0).min_element() <= diameter.max() {
+            return Err(Error::bad(
+                "command line",
+                "--region",
+                "the region is thinner than a fibre; enlarge it",
+            ));
+        }
+        let axis = DVec3::from_array(numbers::<3>("--axis", &self.axis, "X,Y,Z, e.g. 0,0,1")?);
+        if axis.length() < 1e-12 {
+            return Err(Error::bad(
+                "command line",
+                "--axis",
+                "must be a non-zero direction",
+            ));
+        }
+        let axis = axis.normalize();
+        let orientation = match self.orientation.as_str() {
+            "isotropic" => Orientation::Isotropic,
+            "aligned" => Orientation::Aligned(axis),
+            "planar" => Orientation::Planar(axis),
+            o => {
+                return Err(Error::bad(
+                    "command line",
+                    "--orientation",
+                    format!("unknown orientation `{o}`; choose isotropic, aligned or planar"),
+                ))
+            }
+        };
+        let velocity = match &self.velocity {
+            Some(v) => Velocity::Fixed(DVec3::from_array(numbers::<3>(
+                "--velocity",
+                v,
+                "VX,VY,VZ in m/s",
+            )?)),
+            None if self.speed.is_finite() && self.speed >= 0.0 => Velocity::Random(self.speed),
+            None => {
+                return Err(Error::bad(
+                    "command line",
+                    "--speed",
+                    format!("must be >= 0, got {}", self.speed),
+                ))
+            }
+        };
+        if !(self.spin.is_finite() && self.spin >= 0.0) {
+            return Err(Error::bad(
+                "command line",
+                "--spin",
+                format!("must be >= 0, got {}", self.spin),
+            ));
+        }
+        let gravity = match self.gravity.as_str() {
+            "none" => None,
+            g => Some(DVec3::from_array(numbers::<3>(
+                "--gravity",
+                g,
+                "GX,GY,GZ in m/s^2 or `none`",
+            )?)),
+        };
+        let young = positive_flag("--young", self.young)?;
+        let poisson = poisson_flag("--poisson", self.poisson)?;
+        let e = restitution_flag("--restitution", self.restitution)?;
+        let sim = SimParams::new(
+            self.dt,
+            self.t_end,
+            crate::integrate::rotate::RotatorKind::Pcdm,
+            None,
+            "command line",
+            "--",
+        )?;
+        Ok(GenerateOptions {
+            placement: Placement {
+                n: self.n,
+                region,
+                diameter,
+                length,
+                orientation,
+                gap,
+                max_attempts: self.max_attempts.max(1),
+            },
+            walls: crate::contact::Walls {
+                min: DVec3::ZERO,
+                max: size,
+                young: positive_flag("--wall-young", self.wall_young.unwrap_or(young))?,
+                poisson: poisson_flag("--wall-poisson", self.wall_poisson.unwrap_or(poisson))?,
+            },
+            gravity,
+            material: crate::body::Material {
+                name: "fibre".into(),
+                density: positive_flag("--density", self.density)?,
+                young,
+                poisson,
+            },
+            velocity,
+            spin: self.spin,
+            seed: self.seed,
+            dt: sim.dt(),
+            t_end: sim.t_end(),
+            restitution: (e < 1.0).then_some(Restitution { fibre: e, wall: e }),
+            out: self.out,
+            command,
+        })
+    }
+}
+
+/// `fibresim settle`, checked.
+pub struct SettlePlan {
+    /// The scene, with the settling restitution, δt and end time.
+    pub scene: Scene,
+    /// The run's options (with the settle test).
+    pub opts: RunOptions,
+    /// Its advice.
+    pub advice: Advice,
+    /// The settled scenario to write, and its δt and end time.
+    pub write: PathBuf,
+    /// (See `write`.)
+    pub write_dt: f64,
+    /// (See `write`.)
+    pub write_t_end: f64,
+    /// No progress bar, no summary.
+    pub quiet: bool,
+}
+
+impl SettleArgs {
+    /// Load the scene and check the flags.
+    pub fn plan(self) -> Result<SettlePlan> {
+        let mut scene = scenario::load(&self.scenario)?;
+        if scene.has_prescribed_torque() {
+            return Err(Error::bad(
+                &scene.source,
+                "body.torque",
+                "a scene with prescribed torques cannot settle; remove the torques",
+            ));
+        }
+        if let Some(e) = self.restitution {
+            let e = restitution_flag("--restitution", e)?;
+            scene.damping = (e < 1.0).then_some(Restitution { fibre: e, wall: e });
+        }
+        if scene.damping.is_none() {
+            return Err(Error::bad(&scene.source, "contact.restitution", "nothing dissipates, so the bed can never settle; give --restitution E (e.g. 0.3) or [contact] restitution"));
+        }
+        if self.dt.is_some() || self.t_end.is_some() || self.every.is_some() {
+            let s = &scene.sim;
+            scene.sim = SimParams::new(
+                self.dt.unwrap_or(s.dt()),
+                self.t_end.unwrap_or(s.t_end()),
+                s.rotator(),
+                self.every.or(s.every()),
+                "command line",
+                "--",
+            )?;
+        }
+        let ke = match self.ke_per_fibre {
+            Some(k) => positive_flag("--ke-per-fibre", k)?,
+            None => {
+                // 1e-4 of the mean m g D (g = 9.81 m/s² without gravity).
+                let g = scene.gravity.map_or(9.81, |g| g.length());
+                let sum: f64 = scene
+                    .bodies
+                    .iter()
+                    .map(|b| b.mass * g * b.shape.diameter())
+                    .sum();
+                1e-4 * sum / scene.bodies.len() as f64
+            }
+        };
+        if self.check_every == 0 {
+            return Err(Error::bad("command line", "--check-every", "must be >= 1"));
+        }
+        let impact = self
+            .impact_speed
+            .map(|v| positive_flag("--impact-speed", v))
+            .transpose()?;
+        let advice = advise_with(&scene, impact);
+        if let Some(limit) = advice.hard_limit_dt {
+            if scene.sim.dt() > limit && !self.allow_large_dt {
+                return Err(Error::bad(&scene.source, "--dt", format!("dt = {:e} s leaves fewer than 5 steps for the shortest Hertz collision or face-tilt period; use dt <= {limit:.3e} s, --impact-speed V, or --allow-large-dt", scene.sim.dt())));
+            }
+        }
+        let write_dt = positive_flag("--write-dt", self.write_dt.unwrap_or(scene.sim.dt()))?;
+        let write_t_end = positive_flag(
+            "--write-t-end",
+            self.write_t_end.unwrap_or(100.0 * write_dt),
+        )?;
+        SimParams::new(
+            write_dt,
+            write_t_end,
+            scene.sim.rotator(),
+            None,
+            "command line",
+            "--write-",
+        )?;
+        let out = self.out.unwrap_or_else(|| {
+            PathBuf::from("out")
+                .join(stem(&self.scenario))
+                .join("settle")
+        });
+        Ok(SettlePlan {
+            opts: RunOptions {
+                out_dir: out.clone(),
+                progress: !self.quiet,
+                checkpoint_every: None,
+                settle: Some(crate::run::Settle {
+                    ke_per_body: ke,
+                    every: self.check_every,
+                }),
+                write_bodies: Some(crate::generate::body_file_of(&self.write)),
+            },
+            scene,
+            advice,
+            write: self.write,
+            write_dt,
+            write_t_end,
+            quiet: self.quiet,
+        })
     }
 }

@@ -15,11 +15,13 @@
 //! history: docs/contacts.md.
 
 pub mod broad;
+pub mod damping;
 pub mod dispatch;
 pub mod fibre_fibre;
 pub mod fibre_wall;
 pub mod hertz;
 mod laws;
+pub(crate) mod overlap_check;
 pub(crate) mod slots;
 pub mod stage;
 pub mod walls;

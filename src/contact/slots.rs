@@ -7,6 +7,7 @@
 //! whatever the thread count.
 
 use super::broad::NeighbourList;
+use super::damping::{Damping, DampingView};
 use super::laws::LawTable;
 use super::stage::ContactStats;
 use super::{contacts, Collider, ContactPoint, FibreGeom, HertzLaw, KernelCounters, Wall};
@@ -27,12 +28,26 @@ struct PointWrench {
     overlap: f64,
 }
 
-/// A candidate that touches: its index in the neighbour list and its points.
+/// One contact point's damping load, for the ledger (`Damping::account`):
+/// the damping part of the force on A and its torques on A and B.
+#[derive(Debug, Clone, Copy)]
+struct DampWrench {
+    force: DVec3,
+    torque_a: DVec3,
+    torque_b: DVec3,
+}
+
+/// A candidate that touches: its index in the neighbour list, its points,
+/// and their damping loads (empty, never allocated, without damping).
 #[derive(Debug, Clone)]
 struct Hit {
     candidate: u32,
     points: SmallVec<[PointWrench; 1]>,
+    damp: Vec<DampWrench>,
 }
+
+/// What a candidate's evaluation gives: its points' wrenches and damping loads.
+type Wrenches = (SmallVec<[PointWrench; 1]>, Vec<DampWrench>);
 
 /// For each body, its pair candidates in the serial stage's order, with the
 /// side it is on (CSR, rebuilt with the neighbour list).
@@ -105,17 +120,42 @@ impl Incidence {
 }
 
 /// The wrench of each of `points` between A (`ga`) and B (`gb`, absent for
-/// a wall), as the serial stage's `apply` computes it.
+/// a wall), as the serial stage's `apply` computes it; with `damping`
+/// (the view, A's and B's indices) the damping force is added as `apply`
+/// adds it, and its loads are returned.
+#[inline]
 fn wrenches(
     points: &[ContactPoint],
     law: &HertzLaw,
     ga: &FibreGeom,
     gb: Option<&FibreGeom>,
-) -> SmallVec<[PointWrench; 1]> {
-    points
+    damping: Option<(&DampingView, usize, Option<usize>)>,
+) -> Wrenches {
+    let mut damp = Vec::new();
+    let wrenches = points
         .iter()
         .map(|c| {
-            let force = (c.weight * law.force(c.overlap)) * c.normal;
+            let mut f_n = c.weight * law.force(c.overlap);
+            if let Some((view, a, b)) = damping {
+                let other = b.zip(gb).map(|(b, gb)| (b, gb.centre));
+                let d = view.force(
+                    (a, ga.centre),
+                    other,
+                    law.stiffness(),
+                    c.weight,
+                    c.point,
+                    c.normal,
+                    c.overlap,
+                );
+                f_n += d;
+                let fv = d * c.normal;
+                damp.push(DampWrench {
+                    force: fv,
+                    torque_a: (c.point - ga.centre).cross(fv),
+                    torque_b: gb.map_or(DVec3::ZERO, |gb| (c.point - gb.centre).cross(fv)),
+                });
+            }
+            let force = f_n * c.normal;
             let u = law.energy(c.overlap);
             let couple = -u * c.weight_grad;
             PointWrench {
@@ -128,7 +168,8 @@ fn wrenches(
                 overlap: c.overlap,
             }
         })
-        .collect()
+        .collect();
+    (wrenches, damp)
 }
 
 /// Compute every candidate of `list` in parallel into `hits` (in candidate
@@ -136,8 +177,7 @@ fn wrenches(
 fn compute_hits<T: Sync>(
     candidates: &[T],
     hits: &mut Vec<Hit>,
-    eval: impl Fn(&T, &mut Vec<ContactPoint>, &mut KernelCounters) -> Option<SmallVec<[PointWrench; 1]>>
-        + Sync,
+    eval: impl Fn(&T, &mut Vec<ContactPoint>, &mut KernelCounters) -> Option<Wrenches> + Sync,
 ) -> KernelCounters {
     let (list, counters) = candidates
         .par_iter()
@@ -147,10 +187,11 @@ fn compute_hits<T: Sync>(
             |(mut out, mut buf, mut counters): (Vec<Hit>, Vec<ContactPoint>, KernelCounters),
              (k, c)| {
                 buf.clear();
-                if let Some(points) = eval(c, &mut buf, &mut counters) {
+                if let Some((points, damp)) = eval(c, &mut buf, &mut counters) {
                     out.push(Hit {
                         candidate: k as u32,
                         points,
+                        damp,
                     });
                 }
                 (out, buf, counters)
@@ -186,9 +227,90 @@ fn index_hits(slot: &mut Vec<u32>, len: usize, previous: &[Hit], hits: &[Hit]) {
     }
 }
 
+/// A load one contact point puts on its two bodies: the force on A and the
+/// torques on A and B (B gets minus the force).
+trait Load {
+    fn parts(&self) -> (DVec3, DVec3, DVec3);
+}
+
+impl Load for PointWrench {
+    #[inline]
+    fn parts(&self) -> (DVec3, DVec3, DVec3) {
+        (self.force, self.torque_a, self.torque_b)
+    }
+}
+
+impl Load for DampWrench {
+    #[inline]
+    fn parts(&self) -> (DVec3, DVec3, DVec3) {
+        (self.force, self.torque_a, self.torque_b)
+    }
+}
+
+/// The hits of one computation, indexed per body.
+struct Gather<'a> {
+    inc: &'a Incidence,
+    wall_slot: &'a [u32],
+    pair_slot: &'a [u32],
+    wall_hits: &'a [Hit],
+    pair_hits: &'a [Hit],
+}
+
+impl Gather<'_> {
+    /// Each body's sum of the loads `of` its hits, in the serial order:
+    /// its walls, then its pairs in sorted order, each hit's points in order.
+    fn sum<L: Load>(
+        &self,
+        force: &mut [DVec3],
+        torque: &mut [DVec3],
+        of: impl Fn(&Hit) -> &[L] + Sync,
+    ) {
+        let inc = self.inc;
+        force
+            .par_iter_mut()
+            .zip(torque.par_iter_mut())
+            .enumerate()
+            .for_each(|(b, (f, t))| {
+                let (mut fb, mut tb) = (DVec3::ZERO, DVec3::ZERO);
+                for w in inc.walls[b]..inc.walls[b + 1] {
+                    let s = self.wall_slot[w as usize];
+                    if s != NONE {
+                        for p in of(&self.wall_hits[s as usize]) {
+                            let (pf, pa, _) = p.parts();
+                            fb += pf;
+                            tb += pa;
+                        }
+                    }
+                }
+                let range = inc.start[b] as usize..inc.start[b + 1] as usize;
+                for &entry in &inc.pairs[range] {
+                    let (c, a_side) = (entry & !SIDE_B, entry & SIDE_B == 0);
+                    let s = self.pair_slot[c as usize];
+                    if s == NONE {
+                        continue;
+                    }
+                    for p in of(&self.pair_hits[s as usize]) {
+                        let (pf, pa, pb) = p.parts();
+                        if a_side {
+                            fb += pf;
+                            tb += pa;
+                        } else {
+                            fb -= pf;
+                            tb -= pb;
+                        }
+                    }
+                }
+                *f = fb;
+                *t = tb;
+            });
+    }
+}
+
 impl Slots {
     /// The contact forces and torques of every body, and the scene
-    /// statistics, bit for bit as the serial stage computes them.
+    /// statistics, bit for bit as the serial stage computes them; with
+    /// `damping` (and the velocities in `states`), the damping forces and
+    /// their per-body loads too.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn compute(
         &mut self,
@@ -199,6 +321,11 @@ impl Slots {
         force: &mut [DVec3],
         torque: &mut [DVec3],
         counters: &mut KernelCounters,
+        damping: Option<(
+            &mut Damping,
+            &[crate::body::Body],
+            &[crate::body::BodyState],
+        )>,
     ) -> ContactStats {
         let n = geoms.len();
         if self.incidence.build != list.builds || self.incidence.start.len() != n + 1 {
@@ -208,6 +335,14 @@ impl Slots {
         let previous_pairs = std::mem::take(&mut self.pair_hits);
         let mut wall_hits = Vec::new();
         let mut pair_hits = Vec::new();
+        let (view, loads) = match damping {
+            Some((d, bodies, states)) => {
+                let view = d.view(bodies, states);
+                (Some(view), Some(d.loads()))
+            }
+            None => (None, None),
+        };
+        let view = view.as_ref();
         *counters = *counters
             + compute_hits(&list.walls, &mut wall_hits, |&(i, k), buf, c| {
                 let g = &geoms[i as usize];
@@ -217,14 +352,19 @@ impl Slots {
                     buf,
                     c,
                 );
-                (!buf.is_empty()).then(|| wrenches(buf, laws.fibre_wall(i as usize), g, None))
+                let damping = view.map(|v| (v, i as usize, None));
+                (!buf.is_empty())
+                    .then(|| wrenches(buf, laws.fibre_wall(i as usize), g, None, damping))
             });
         *counters = *counters
             + compute_hits(&list.pairs, &mut pair_hits, |&(a, b), buf, c| {
                 let (ga, gb) = (&geoms[a as usize], &geoms[b as usize]);
                 contacts(Collider::Fibre(ga), Collider::Fibre(gb), buf, c);
-                (!buf.is_empty())
-                    .then(|| wrenches(buf, &laws.fibre_fibre(a as usize, b as usize), ga, Some(gb)))
+                let damping = view.map(|v| (v, a as usize, Some(b as usize)));
+                (!buf.is_empty()).then(|| {
+                    let law = &laws.fibre_fibre(a as usize, b as usize);
+                    wrenches(buf, law, ga, Some(gb), damping)
+                })
             });
         index_hits(
             &mut self.wall_slot,
@@ -239,45 +379,19 @@ impl Slots {
             &pair_hits,
         );
 
-        // Gather: each body sums its slots in the serial order.
-        let inc = &self.incidence;
-        let (wall_slot, pair_slot) = (&self.wall_slot, &self.pair_slot);
-        let (wh, ph) = (&wall_hits, &pair_hits);
-        force
-            .par_iter_mut()
-            .zip(torque.par_iter_mut())
-            .enumerate()
-            .for_each(|(b, (f, t))| {
-                let (mut fb, mut tb) = (DVec3::ZERO, DVec3::ZERO);
-                for w in inc.walls[b]..inc.walls[b + 1] {
-                    let s = wall_slot[w as usize];
-                    if s != NONE {
-                        for p in &wh[s as usize].points {
-                            fb += p.force;
-                            tb += p.torque_a;
-                        }
-                    }
-                }
-                let range = inc.start[b] as usize..inc.start[b + 1] as usize;
-                for &entry in &inc.pairs[range] {
-                    let (c, a_side) = (entry & !SIDE_B, entry & SIDE_B == 0);
-                    let s = pair_slot[c as usize];
-                    if s == NONE {
-                        continue;
-                    }
-                    for p in &ph[s as usize].points {
-                        if a_side {
-                            fb += p.force;
-                            tb += p.torque_a;
-                        } else {
-                            fb -= p.force;
-                            tb -= p.torque_b;
-                        }
-                    }
-                }
-                *f = fb;
-                *t = tb;
-            });
+        // Gather: each body sums its slots in the serial order (and so its
+        // damping loads, for the ledger).
+        let gather = Gather {
+            inc: &self.incidence,
+            wall_slot: &self.wall_slot,
+            pair_slot: &self.pair_slot,
+            wall_hits: &wall_hits,
+            pair_hits: &pair_hits,
+        };
+        gather.sum(force, torque, |h| &h.points);
+        if let Some((df, dt)) = loads {
+            gather.sum(df, dt, |h| &h.damp);
+        }
 
         // The statistics, reduced in the serial order (walls, then pairs).
         let mut stats = ContactStats::default();

@@ -8,6 +8,7 @@
 //! body B). Deterministic: fixed loop order, sorted pairs.
 
 use super::broad::NeighbourList;
+use super::damping::{Damping, DampingPass, Restitution};
 use super::laws::LawTable;
 use super::slots::Slots;
 use super::{
@@ -40,6 +41,8 @@ pub struct ContactStage {
     neighbours: NeighbourList,
     points: Vec<ContactPoint>,
     counters: KernelCounters,
+    /// Normal dissipation, if the scene declares it.
+    damping: Option<Damping>,
     /// The parallel path's buffers.
     slots: Slots,
     /// What the last [`ContactStage::compute`] saw.
@@ -51,7 +54,8 @@ pub struct ContactStage {
 /// (fibres at ≤ 5 m/s, δt = 1e-7 s) rebuilds once per ~1500 steps.
 pub(crate) const SKIN_PER_DIAMETER: f64 = 0.2;
 
-fn geom(body: &Body, s: &BodyState) -> FibreGeom {
+/// The kernels' view of fibre `body` at state `s`.
+pub(crate) fn geom(body: &Body, s: &BodyState) -> FibreGeom {
     let Shape::Fibre { diameter, length } = body.shape else {
         unreachable!("scene validation admits only fibres in contact scenes")
     };
@@ -78,9 +82,30 @@ impl ContactStage {
             neighbours: NeighbourList::new(SKIN_PER_DIAMETER * thinnest),
             points: vec![],
             counters: KernelCounters::default(),
+            damping: None,
             slots: Slots::default(),
             stats: ContactStats::default(),
         }
+    }
+
+    /// The stage with normal damping of restitution `e` (`None`: elastic)
+    /// for `n` bodies stepped by `dt` under `gravity` (for its ledger).
+    pub fn with_damping(
+        mut self,
+        e: Option<Restitution>,
+        n: usize,
+        dt: f64,
+        gravity: Option<DVec3>,
+    ) -> Self {
+        self.damping = e.map(|e| Damping::new(e, n, dt, gravity));
+        self
+    }
+
+    /// Energy dissipated by the damping up to the last computation's state,
+    /// J (0 without damping).
+    #[inline]
+    pub fn dissipated(&self) -> f64 {
+        self.damping.as_ref().map_or(0.0, |d| d.dissipated)
     }
 
     /// Neighbour-list builds so far.
@@ -128,6 +153,7 @@ impl ContactStage {
             let rotations = states.iter().map(|s| s.rot.q);
             self.neighbours.build(&self.geoms, rotations, &self.walls);
         }
+        let mut damping = self.damping.as_mut().map(|d| d.pass(bodies, states));
 
         for &(i, k) in &self.neighbours.walls {
             let i = i as usize;
@@ -147,6 +173,7 @@ impl ContactStage {
                 force,
                 torque,
                 &mut stats,
+                damping.as_mut(),
             );
         }
 
@@ -171,7 +198,11 @@ impl ContactStage {
                 force,
                 torque,
                 &mut stats,
+                damping.as_mut(),
             );
+        }
+        if let Some(d) = &mut self.damping {
+            d.account(bodies, states, force);
         }
         self.stats = stats;
     }
@@ -218,12 +249,18 @@ impl ContactStage {
             force,
             torque,
             &mut self.counters,
+            self.damping.as_mut().map(|d| (d, bodies, states)),
         );
+        if let Some(d) = &mut self.damping {
+            d.account(bodies, states, force);
+        }
     }
 }
 
-/// Hertz force of each point on body A (and the reaction on B, if a body).
+/// Hertz force of each point on body A (and the reaction on B, if a body),
+/// plus the damping force where the scene declares it.
 #[inline]
+#[allow(clippy::too_many_arguments)]
 fn apply(
     points: &[ContactPoint],
     law: &HertzLaw,
@@ -232,13 +269,28 @@ fn apply(
     force: &mut [DVec3],
     torque: &mut [DVec3],
     stats: &mut ContactStats,
+    mut damping: Option<&mut DampingPass>,
 ) {
     if points.is_empty() {
         return;
     }
     stats.touching += 1;
     for c in points {
-        let f = (c.weight * law.force(c.overlap)) * c.normal;
+        let mut f_n = c.weight * law.force(c.overlap);
+        if let Some(d) = damping.as_mut() {
+            let other = b.map(|(gb, b)| (b, gb.centre));
+            let k = law.stiffness();
+            f_n += d.force(
+                (a, ga.centre),
+                other,
+                k,
+                c.weight,
+                c.point,
+                c.normal,
+                c.overlap,
+            );
+        }
+        let f = f_n * c.normal;
         let u = law.energy(c.overlap);
         stats.elastic += c.weight * u;
         // δ/D on each body (they may differ in diameter).
@@ -263,38 +315,4 @@ impl ContactStats {
             self.max_overlap_body = body;
         }
     }
-}
-
-/// The first overlap found in a configuration: `(body, other body or None for a
-/// wall, overlap)`, walls first, through the same kernels as the stage. Used
-/// to reject scenes whose bodies overlap at the start.
-pub(crate) fn first_overlap(
-    bodies: &[Body],
-    states: &[BodyState],
-    walls: Option<&Walls>,
-) -> Option<(usize, Option<usize>, f64)> {
-    let geoms: Vec<FibreGeom> = bodies.iter().zip(states).map(|(b, s)| geom(b, s)).collect();
-    let walls = walls.map(box_walls).unwrap_or_default();
-    let mut pts = vec![];
-    let mut counters = KernelCounters::default();
-    let mut first = |a: Collider, b: Collider| {
-        pts.clear();
-        contacts(a, b, &mut pts, &mut counters);
-        pts.first().map(|c| c.overlap)
-    };
-    for (i, g) in geoms.iter().enumerate() {
-        for wall in &walls {
-            if let Some(overlap) = first(Collider::Fibre(g), Collider::Wall(wall)) {
-                return Some((i, None, overlap));
-            }
-        }
-    }
-    for i in 0..geoms.len() {
-        for j in i + 1..geoms.len() {
-            if let Some(overlap) = first(Collider::Fibre(&geoms[i]), Collider::Fibre(&geoms[j])) {
-                return Some((i, Some(j), overlap));
-            }
-        }
-    }
-    None
 }

@@ -62,6 +62,7 @@ impl World<'_> {
         // Summed in body order: the bits of the one-thread pass.
         let mut ledger = Ledger {
             elastic: self.elastic(),
+            dissipated: self.dissipated(),
             ..Ledger::default()
         };
         for (body, s) in scene.bodies.iter().zip(&self.states) {

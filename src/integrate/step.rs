@@ -176,6 +176,7 @@ impl<'s> World<'s> {
         let len = R::Aux::LEN;
         let mut ledger = Ledger {
             elastic: self.elastic(),
+            dissipated: self.dissipated(),
             ..Ledger::default()
         };
         let mut sound = true;

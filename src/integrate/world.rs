@@ -64,9 +64,10 @@ impl<'s> World<'s> {
             force: vec![DVec3::ZERO; n],
             torque: vec![DVec3::ZERO; n],
             step: 0,
-            contacts: scene
-                .needs_contacts()
-                .then(|| ContactStage::new(&scene.bodies, &scene.materials, scene.walls.as_ref())),
+            contacts: scene.needs_contacts().then(|| {
+                ContactStage::new(&scene.bodies, &scene.materials, scene.walls.as_ref())
+                    .with_damping(scene.damping, n, scene.sim.dt(), scene.gravity)
+            }),
             ledger: Ledger::default(),
             e0_full: 0.0,
             energy_guarded: !scene.has_prescribed_torque(),
@@ -91,18 +92,28 @@ impl<'s> World<'s> {
 
     /// The ledger of the current states.
     pub(crate) fn measure(&self) -> Ledger {
-        Ledger::measure(
-            &self.scene.bodies,
-            &self.states,
-            self.scene.gravity,
-            self.elastic(),
-        )
+        Ledger {
+            dissipated: self.dissipated(),
+            ..Ledger::measure(
+                &self.scene.bodies,
+                &self.states,
+                self.scene.gravity,
+                self.elastic(),
+            )
+        }
     }
 
     /// Elastic energy of the live contacts at `states`, J.
     #[inline]
     pub fn elastic(&self) -> f64 {
         self.contacts.as_ref().map_or(0.0, |c| c.stats.elastic)
+    }
+
+    /// Energy dissipated by contact damping up to `states`, J (0 when the
+    /// scene declares none).
+    #[inline]
+    pub fn dissipated(&self) -> f64 {
+        self.contacts.as_ref().map_or(0.0, |c| c.dissipated())
     }
 
     /// The time of the current step, `step · δt`, s.

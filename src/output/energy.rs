@@ -33,6 +33,7 @@ pub struct EnergyCsv {
     file: CsvFile,
     every: u64,
     with_contacts: bool,
+    with_dissipation: bool,
     window: Window,
 }
 
@@ -47,8 +48,16 @@ impl EnergyCsv {
             file: CsvFile::at(dir.join(NAME)),
             every,
             with_contacts,
+            with_dissipation: false,
             window: Window::default(),
         }
+    }
+
+    /// Add the column `e_dissipated` (the ledger's dissipated energy, J),
+    /// last, for scenes that declare damping.
+    pub fn with_dissipation(mut self, yes: bool) -> Self {
+        self.with_dissipation = yes;
+        self
     }
 }
 
@@ -61,6 +70,9 @@ impl Observer for EnergyCsv {
         let mut cols = ENERGY_COLUMNS.to_vec();
         if self.with_contacts {
             cols.extend(["contacts", "max_overlap_ratio"]);
+        }
+        if self.with_dissipation {
+            cols.push("e_dissipated");
         }
         self.file.create(&cols)
     }
@@ -84,6 +96,7 @@ impl Observer for EnergyCsv {
         };
         let touching = v.world.contact_stats().unwrap_or_default().touching as u64;
         let with_contacts = self.with_contacts;
+        let dissipated = self.with_dissipation.then_some(l.dissipated);
         let file = &mut self.file;
         let path = &file.path;
         Row::new(file.w.as_mut().ok_or_else(|| not_open(path))?)
@@ -101,6 +114,9 @@ impl Observer for EnergyCsv {
             .and_then(|r| {
                 if with_contacts {
                     r.u(touching)?.f(w.overlap)?;
+                }
+                if let Some(d) = dissipated {
+                    r.f(d)?;
                 }
                 r.end()
             })

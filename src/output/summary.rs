@@ -53,6 +53,13 @@ pub struct Summary {
     pub energy_error_full_max_pct: Option<f64>,
     /// Full-budget error at the last step, %.
     pub energy_error_full_final_pct: Option<f64>,
+    /// Kinetic energy (translation and rotation) at the last step, J
+    /// (not written: `fibresim settle` reports it).
+    #[serde(skip)]
+    pub kinetic_final: f64,
+    /// Damped scenes: energy dissipated by the contacts, J.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub energy_dissipated: Option<f64>,
     /// Contact scenes: the largest overlap over the fibre diameter, δ/D.
     pub max_overlap_ratio: Option<f64>,
     /// Closed-form scenes: geodesic angle to the reference at the end, rad.
@@ -62,7 +69,11 @@ pub struct Summary {
     pub reference_x_error_pct: Option<f64>,
     /// Why the run stopped early, if it did.
     pub stopped: Option<Diagnosis>,
-    /// Every body's state at the last step.
+    /// `fibresim settle`: whether the bed settled before `t_end`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub settled: Option<bool>,
+    /// The state of every `[[body]]` body at the last step (bodies of a body
+    /// file are left out: `fibresim settle` writes them as a body file).
     #[serde(rename = "final")]
     pub final_state: Vec<BodyFinal>,
 }
@@ -109,12 +120,14 @@ impl Summary {
             energy_error_full_max_pct: finite(stats.max_error_full)
                 .filter(|_| stats.last_error_full.is_finite()),
             energy_error_full_final_pct: finite(stats.last_error_full),
+            kinetic_final: world.ledger.translation + world.ledger.rotation,
+            energy_dissipated: scene.damping.is_some().then_some(world.ledger.dissipated),
             max_overlap_ratio: world.contacts.is_some().then_some(stats.max_overlap_ratio),
             reference_error_final_rad: ref_err,
             reference_x_error_pct: ref_x_err,
             stopped: end.stopped.cloned(),
-            final_state: world
-                .states
+            settled: None,
+            final_state: world.states[..scene.names.len()]
                 .iter()
                 .zip(&scene.ids)
                 .map(|(s, &id)| BodyFinal {
@@ -140,6 +153,7 @@ impl Summary {
 pub struct SummaryJson {
     path: PathBuf,
     every: u64,
+    settle: Option<crate::run::Settle>,
     /// The summary, once the run has ended.
     pub summary: Option<Summary>,
 }
@@ -150,14 +164,22 @@ impl SummaryJson {
         SummaryJson {
             path: dir.join("summary.json"),
             every,
+            settle: None,
             summary: None,
         }
+    }
+
+    /// Record whether the final state meets `settle` (`fibresim settle`).
+    pub fn with_settle(mut self, settle: Option<crate::run::Settle>) -> Self {
+        self.settle = settle;
+        self
     }
 }
 
 impl Observer for SummaryJson {
     fn finish(&mut self, v: &View, end: &RunEnd) -> Result<()> {
-        let s = Summary::of(v, end, self.every);
+        let mut s = Summary::of(v, end, self.every);
+        s.settled = self.settle.map(|t| t.reached(v.world));
         s.write(&self.path)?;
         self.summary = Some(s);
         Ok(())

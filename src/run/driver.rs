@@ -23,6 +23,26 @@ pub struct Control {
     /// Stop at the next step when this flag is set (SIGINT), after a
     /// checkpoint (to be written at the given path by the checkpoint observer).
     pub interrupt: Option<(&'static AtomicBool, PathBuf)>,
+    /// End the run (as if at its last step) once it has settled.
+    pub settle: Option<Settle>,
+}
+
+/// When a run has settled: its kinetic energy (translation and rotation)
+/// per body at or below `ke_per_body`, tested every `every` steps.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settle {
+    /// Threshold, J per body.
+    pub ke_per_body: f64,
+    /// Steps between two tests.
+    pub every: u64,
+}
+
+impl Settle {
+    /// Whether `w` has settled.
+    pub fn reached(&self, w: &World) -> bool {
+        let ke = w.ledger.translation + w.ledger.rotation;
+        ke <= self.ke_per_body * w.states.len() as f64
+    }
 }
 
 /// The end of a drive: the final world, the run's statistics and the stop.
@@ -37,6 +57,8 @@ pub struct Finished<'s> {
     pub wall_s: f64,
     /// The step the loop started from.
     pub first_step: u64,
+    /// Whether the run ended because it settled ([`Control::settle`]).
+    pub settled: bool,
 }
 
 /// Run `scene` with its rotator from the start (or from `resume`) to its
@@ -134,6 +156,7 @@ fn drive_with<'s, R: Rotator>(
 
     let start = Instant::now();
     let mut stopped: Option<Diagnosis> = None;
+    let mut settled = false;
     while world.step < steps {
         if let Err(d) = world.step::<R>() {
             stopped = Some(*d);
@@ -150,14 +173,17 @@ fn drive_with<'s, R: Rotator>(
             }
         }
         let interrupted = interrupt.is_some_and(|(flag, _)| flag.load(Ordering::Relaxed));
-        if world.step < next && !interrupted {
+        settled = control
+            .settle
+            .is_some_and(|s| world.step % s.every == 0 && s.reached(&world));
+        if world.step < next && !interrupted && !settled {
             continue;
         }
         let v = View {
             world: &world,
             stats: &stats,
         };
-        let last = world.step == steps;
+        let last = world.step == steps || settled;
         for o in observers.iter_mut() {
             o.event(&v);
         }
@@ -200,6 +226,9 @@ fn drive_with<'s, R: Rotator>(
             });
             break;
         }
+        if settled {
+            break;
+        }
         next = next_event(&next_row, next_checkpoint);
         stats.since_event = Default::default();
     }
@@ -222,6 +251,7 @@ fn drive_with<'s, R: Rotator>(
         stopped,
         wall_s,
         first_step,
+        settled,
     })
 }
 

@@ -6,7 +6,7 @@ pub mod observer;
 pub mod resume;
 pub mod stats;
 
-pub use driver::{drive, Control, Finished};
+pub use driver::{drive, Control, Finished, Settle};
 pub use observer::{EachStep, Observer, RunEnd, View};
 pub use resume::{copy_resume_outputs, scene_from_checkpoint};
 
@@ -34,6 +34,10 @@ pub struct RunOptions {
     pub progress: bool,
     /// Write `checkpoint.json` every this many steps.
     pub checkpoint_every: Option<u64>,
+    /// End the run once it has settled (`fibresim settle`).
+    pub settle: Option<Settle>,
+    /// Write the final states of every body as a body file here.
+    pub write_bodies: Option<PathBuf>,
 }
 
 /// Run `scene` with its rotator (`scene.sim.rotator()`), writing
@@ -73,12 +77,13 @@ fn run_observed(
     let dir = &opts.out_dir;
     crate::output::create_out_dir(dir)?;
     let every = scene.sim.every_or_default();
-    let mut energy = EnergyCsv::new(dir, every, scene.needs_contacts());
+    let mut energy = EnergyCsv::new(dir, every, scene.needs_contacts())
+        .with_dissipation(scene.damping.is_some());
     let with_orientation = scene.has_prescribed_torque() || scene.reference.is_some();
     let mut orientation =
         with_orientation.then(|| OrientationCsv::new(dir, every, scene.reference.is_some()));
     let mut progress = progress;
-    let mut summary = SummaryJson::new(dir, every);
+    let mut summary = SummaryJson::new(dir, every).with_settle(opts.settle);
     let checkpoint_path = dir.join(CHECKPOINT_FILE);
     let mut checkpoint = CheckpointFile {
         path: checkpoint_path.clone(),
@@ -95,8 +100,14 @@ fn run_observed(
     let control = Control {
         checkpoint_every: opts.checkpoint_every,
         interrupt: Some((&INTERRUPTED, checkpoint_path)),
+        settle: opts.settle,
     };
     let finished = drive(scene, &mut observers, &control, resume)?;
+    if let Some(path) = &opts.write_bodies {
+        let names: Vec<String> = scene.materials.iter().map(|m| m.name.clone()).collect();
+        let w = &finished.world;
+        crate::scenario::body_file::write(path, &scene.ids, &scene.bodies, &w.states, &names)?;
+    }
     driver::outcome(finished.stopped)?;
     Ok(summary
         .summary

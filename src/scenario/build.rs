@@ -80,13 +80,14 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
         None => None,
     };
 
-    if raw.body.is_empty() {
+    let has_file = raw.bodies.is_some();
+    if raw.body.is_empty() && !has_file {
         return Err(cx.err(
             "body",
-            "the scene has no bodies; add at least one [[body]] table",
+            "the scene has no bodies; add at least one [[body]] table or a [bodies] file",
         ));
     }
-    let needs_contacts = walls.is_some() || raw.body.len() > 1;
+    let needs_contacts = walls.is_some() || raw.body.len() > 1 || has_file;
     let mut bodies = Vec::with_capacity(raw.body.len());
     let mut names = Vec::with_capacity(raw.body.len());
     let mut initial = Vec::with_capacity(raw.body.len());
@@ -101,35 +102,107 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
             torques.push(Prescribed { body: i, torque });
         }
     }
+    let mut ids: Vec<u64> = (0..bodies.len() as u64).collect();
+    // Bodies of a body file follow the [[body]] ones; they carry no name
+    // (`body{id}` in messages) and report errors at their file's line.
+    let mut file_lines: Vec<u32> = vec![];
+    let mut body_file = String::new();
+    if let Some(f) = &raw.bodies {
+        let path = body_file_path(src, &f.file);
+        body_file = path.display().to_string();
+        let read = super::body_file::read(
+            &path,
+            &body_file,
+            &raw.material,
+            &cx,
+            ids.len() as u64,
+            &mut materials,
+        )?;
+        bodies.extend(read.bodies);
+        initial.extend(read.initial);
+        ids.extend(read.ids);
+        file_lines = read.lines;
+        if bodies.is_empty() {
+            return Err(Error::bad(
+                &body_file,
+                "bodies.file",
+                "the body file has no rows and the scene no [[body]]; add bodies",
+            ));
+        }
+    }
+    let toml_count = names.len();
+    // Where body i was given: its [[body]] key, or its body file's row.
+    let at = |i: usize, key: &str, col: usize, msg: String| -> Error {
+        if i < toml_count {
+            cx.err(&format!("body[{i}].{key}"), msg)
+        } else {
+            Error::BadInput {
+                file: body_file.clone(),
+                line: Some((file_lines[i - toml_count] as usize, col)),
+                key: super::body_file::COLUMNS[col - 1].to_string(),
+                message: msg,
+            }
+        }
+    };
+    let label = |i: usize| -> String {
+        match names.get(i) {
+            Some(n) => format!("body[{i}] `{n}`"),
+            None => format!("body {}", ids[i]),
+        }
+    };
 
     if let Some(w) = &walls {
         for (i, (b, st)) in bodies.iter().zip(&initial).enumerate() {
             let (lo, hi) = aabb(&b.shape, st);
             if lo.cmplt(w.min).any() || hi.cmpgt(w.max).any() {
-                return Err(cx.err(
-                    &format!("body[{i}].position"),
+                return Err(at(
+                    i,
+                    "position",
+                    2,
                     format!(
-                        "body `{}` (bounds {lo} .. {hi}) does not fit inside the box {} .. {}; move it inside",
-                        names[i], w.min, w.max
+                        "{} (bounds {lo} .. {hi}) does not fit inside the box {} .. {}; move it inside",
+                        label(i),
+                        w.min,
+                        w.max
                     ),
                 ));
             }
         }
     }
 
+    let start_overlap = match raw.guards.start_overlap_ratio {
+        Some(v) if v.is_finite() && v >= 0.0 => v,
+        Some(v) => {
+            return Err(cx.err(
+                "guards.start_overlap_ratio",
+                format!("must be a finite number >= 0, got {v}; give e.g. 0.01"),
+            ))
+        }
+        None => 0.0,
+    };
     if needs_contacts {
-        if let Some((i, other, overlap)) =
-            crate::contact::stage::first_overlap(&bodies, &initial, walls.as_ref())
-        {
+        if let Some((i, other, overlap)) = crate::contact::overlap_check::first_overlap(
+            &bodies,
+            &initial,
+            walls.as_ref(),
+            start_overlap,
+        ) {
             let with = match other {
-                Some(j) => format!("body[{j}] `{}`", names[j]),
+                Some(j) => label(j),
                 None => "a wall".to_string(),
             };
-            return Err(cx.err(
-                &format!("body[{i}].position"),
+            let allowed = if start_overlap > 0.0 {
+                format!(" (more than guards.start_overlap_ratio = {start_overlap} of the diameter)")
+            } else {
+                String::new()
+            };
+            return Err(at(
+                i,
+                "position",
+                2,
                 format!(
-                    "body `{}` overlaps {with} by {overlap:e} m at the start; move the bodies apart",
-                    names[i]
+                    "{} overlaps {with} by {overlap:e} m at the start{allowed}; move the bodies apart",
+                    label(i)
                 ),
             ));
         }
@@ -155,12 +228,18 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
         guards.overlap_ratio = cx.positive("guards.overlap_ratio", v)?;
     }
 
+    let damping = match &raw.contact {
+        Some(c) => restitution(&cx, c)?,
+        None => None,
+    };
+
     Ok(Scene {
+        damping,
         guards,
         source: src.to_string(),
         text: String::new(),
         sim,
-        ids: (0..bodies.len() as u64).collect(),
+        ids,
         bodies,
         names,
         materials: materials.table,
@@ -170,4 +249,41 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
         walls,
         reference,
     })
+}
+
+/// The body file `file` of the scenario `src`: relative to the scenario's
+/// folder (to the working folder for a scenario without one).
+fn body_file_path(src: &str, file: &str) -> std::path::PathBuf {
+    let f = Path::new(file);
+    match Path::new(src).parent() {
+        Some(dir) if f.is_relative() && !src.starts_with('<') => dir.join(f),
+        _ => f.to_path_buf(),
+    }
+}
+
+/// The checked `[contact]` table; `None` when both coefficients are 1
+/// (elastic), so such a scene runs exactly as one without the table.
+fn restitution(
+    cx: &Ctx,
+    c: &super::file::ContactSection,
+) -> Result<Option<crate::contact::damping::Restitution>> {
+    let check = |key: &str, e: f64| -> Result<f64> {
+        if e.is_finite() && e > 0.0 && e <= 1.0 {
+            Ok(e)
+        } else {
+            Err(cx.err(
+                key,
+                format!("a coefficient of restitution must lie in (0, 1], got {e}; give e.g. 0.3 (1 is elastic)"),
+            ))
+        }
+    };
+    let fibre = match c.restitution {
+        Some(e) => check("contact.restitution", e)?,
+        None => 1.0,
+    };
+    let wall = match c.wall_restitution {
+        Some(e) => check("contact.wall_restitution", e)?,
+        None => fibre,
+    };
+    Ok((fibre < 1.0 || wall < 1.0).then_some(crate::contact::damping::Restitution { fibre, wall }))
 }

@@ -22,6 +22,10 @@ pub struct ScenarioFile {
     /// `[[body]]` tables.
     #[serde(default)]
     pub body: Vec<BodySection>,
+    /// `[bodies]`: more bodies, from a body file (after the `[[body]]` ones).
+    pub bodies: Option<BodiesSection>,
+    /// `[contact]`: a declared normal dissipation (absent: elastic).
+    pub contact: Option<ContactSection>,
     /// `[reference]`: a closed-form solution the scene declares.
     pub reference: Option<ReferenceSection>,
     /// `[guards]`: limits that stop a run early.
@@ -37,6 +41,29 @@ pub struct GuardsSection {
     pub energy_error_pct: Option<f64>,
     /// Largest contact overlap as a fraction of the fibre diameter.
     pub overlap_ratio: Option<f64>,
+    /// Largest overlap (fraction of the thinner diameter) accepted at step 0,
+    /// e.g. the resting contacts of a settled bed (default 0: none).
+    pub start_overlap_ratio: Option<f64>,
+}
+
+/// `[bodies]`: bodies in bulk from a body file (CSV, see
+/// [`crate::scenario::body_file`]).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodiesSection {
+    /// Path of the body file, relative to the scenario file's folder.
+    pub file: String,
+}
+
+/// `[contact]`: normal dissipation set by a coefficient of restitution
+/// (docs/physics.md §3; [`crate::contact::damping`]).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSection {
+    /// Normal restitution of fibre–fibre contacts, in (0, 1]; 1 is elastic.
+    pub restitution: Option<f64>,
+    /// Normal restitution of fibre–wall contacts (default: `restitution`).
+    pub wall_restitution: Option<f64>,
 }
 
 /// `[simulation]`.

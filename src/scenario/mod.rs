@@ -3,13 +3,15 @@
 //! numerical parameters and references in their own files).
 
 mod bodies;
+pub mod body_file;
 pub mod build;
-mod check;
+pub(crate) mod check;
 pub mod file;
 pub mod locate;
 pub mod reference;
 pub mod scene;
 pub mod sim;
+pub mod write;
 
 pub use bodies::{aabb, SPEED_OF_LIGHT};
 pub use build::{load, parse_str};

@@ -32,7 +32,8 @@ pub struct Scene {
     /// Stable global id of each body (the `body` column of the outputs,
     /// diagnoses, checkpoints), by storage index.
     pub ids: Vec<u64>,
-    /// Each body's `name`, by storage index.
+    /// The `name` of each `[[body]]` body, by storage index; bodies from a
+    /// body file (after them) have none: see [`Scene::name`].
     pub names: Vec<String>,
     /// The material table (`Body::material` indexes it).
     pub materials: Vec<Material>,
@@ -48,6 +49,8 @@ pub struct Scene {
     pub reference: Option<ClosedForm>,
     /// Limits that stop a run early.
     pub guards: Guards,
+    /// Normal dissipation (`[contact]`); `None`: elastic contacts.
+    pub damping: Option<crate::contact::damping::Restitution>,
 }
 
 impl Scene {
@@ -59,6 +62,14 @@ impl Scene {
     /// Whether any body has a prescribed torque.
     pub fn has_prescribed_torque(&self) -> bool {
         !self.torques.is_empty()
+    }
+
+    /// The label of body `i`: its `name`, else `body<id>`.
+    pub fn name(&self, i: usize) -> String {
+        match self.names.get(i) {
+            Some(n) => n.clone(),
+            None => format!("body{}", self.ids[i]),
+        }
     }
 
     /// The material of body `i`.

@@ -142,7 +142,7 @@ pub fn compare(scene: &Scene, opts: &CompareOptions) -> Result<CompareReport> {
                 let ro = RunOptions {
                     out_dir: opts.out_dir.join(name),
                     progress: false,
-                    checkpoint_every: None,
+                    ..Default::default()
                 };
                 let t0 = Instant::now();
                 let r = run_with_bar(s, &ro, progress.run_bar(name, s.sim.steps()));

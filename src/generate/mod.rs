@@ -1,0 +1,168 @@
+//! `fibresim generate`: a scenario with N non-overlapping fibres in a box,
+//! and its body file (random sequential placement on a cell grid, O(N);
+//! [`place`]). Same options and seed, same bytes.
+
+pub mod place;
+pub mod sample;
+
+use crate::body::{Body, BodyState, Material, RotState, Shape};
+use crate::contact::damping::Restitution;
+use crate::contact::Walls;
+use crate::error::{Error, Result};
+use crate::scenario::write::BedScenario;
+use glam::DVec3;
+use place::Placement;
+use sample::Rng;
+use std::path::PathBuf;
+
+/// `guards.start_overlap_ratio` of a settled bed's scenario: its resting
+/// contacts overlap by ~1e-5 D under gravity; a placement error by far more.
+pub const SETTLED_START_OVERLAP: f64 = 0.01;
+
+/// Initial velocities of the fibres.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Velocity {
+    /// All the same, m/s.
+    Fixed(DVec3),
+    /// This speed in a direction uniform on the sphere, m/s.
+    Random(f64),
+}
+
+/// What `fibresim generate` makes (checked by the CLI's plan).
+#[derive(Debug, Clone)]
+pub struct GenerateOptions {
+    /// Fibres, sizes, orientations, region.
+    pub placement: Placement,
+    /// The box (its walls).
+    pub walls: Walls,
+    /// Gravity, m/s².
+    pub gravity: Option<DVec3>,
+    /// The fibres' material (named in the body file).
+    pub material: Material,
+    /// Initial velocities.
+    pub velocity: Velocity,
+    /// Angular speed about a random axis normal to each fibre, rad/s.
+    pub spin: f64,
+    /// Seed of the random draws.
+    pub seed: u64,
+    /// The scenario's time step and end time, s.
+    pub dt: f64,
+    /// (See `dt`.)
+    pub t_end: f64,
+    /// Declared normal restitution (`None`: elastic).
+    pub restitution: Option<Restitution>,
+    /// The scenario file to write; the body file is `<stem>_bodies.csv` beside it.
+    pub out: PathBuf,
+    /// The command line, for the scenario's header.
+    pub command: String,
+}
+
+/// What `fibresim generate` did.
+#[derive(Debug, Clone)]
+pub struct GenerateReport {
+    /// Fibres placed.
+    pub placed: usize,
+    /// Candidates drawn.
+    pub attempts: u64,
+    /// Volume fraction of the fibres in the placement region.
+    pub volume_fraction: f64,
+    /// Volume fraction in the whole box.
+    pub box_fraction: f64,
+    /// The scenario written.
+    pub scenario: PathBuf,
+    /// Its body file.
+    pub body_file: PathBuf,
+}
+
+/// The body file beside scenario `toml`: `<stem>_bodies.csv`.
+pub fn body_file_of(toml: &std::path::Path) -> PathBuf {
+    let stem = toml
+        .file_stem()
+        .map_or("bed".into(), |s| s.to_string_lossy().into_owned());
+    toml.with_file_name(format!("{stem}_bodies.csv"))
+}
+
+/// Place the fibres and write the scenario and its body file.
+pub fn generate(o: &GenerateOptions) -> Result<GenerateReport> {
+    let mut rng = Rng::new(o.seed);
+    let layout = place::place(&o.placement, &mut rng).map_err(|j| {
+        Error::bad(
+            "command line",
+            "--n",
+            format!(
+                "no room for fibre {} after {} candidates: the region is jammed at volume fraction {:.4}; enlarge the region (--region, --box), place fewer fibres or allow more attempts (--max-attempts)",
+                j.placed, o.placement.max_attempts, j.volume_fraction
+            ),
+        )
+    })?;
+    let mut bodies = Vec::with_capacity(layout.fibres.len());
+    let mut states = Vec::with_capacity(layout.fibres.len());
+    let mut volume = 0.0;
+    for p in &layout.fibres {
+        let shape = Shape::Fibre {
+            diameter: p.diameter,
+            length: p.length,
+        };
+        volume += shape.volume();
+        bodies.push(Body::new(shape, 0, o.material.density));
+        let v = match o.velocity {
+            Velocity::Fixed(v) => v,
+            Velocity::Random(s) => s * rng.unit_vector(),
+        };
+        let omega_b = if o.spin > 0.0 {
+            // Normal to the axis (body x): axial spin does not change under
+            // frictionless contacts (docs/physics.md §9).
+            let phi = 2.0 * std::f64::consts::PI * rng.uniform();
+            o.spin * DVec3::new(0.0, phi.cos(), phi.sin())
+        } else {
+            DVec3::ZERO
+        };
+        states.push(BodyState {
+            x: p.x,
+            v,
+            rot: RotState { q: p.q, omega_b },
+        });
+    }
+    let body_file = body_file_of(&o.out);
+    let ids: Vec<u64> = (0..bodies.len() as u64).collect();
+    crate::scenario::body_file::write(
+        &body_file,
+        &ids,
+        &bodies,
+        &states,
+        std::slice::from_ref(&o.material.name),
+    )?;
+    let (lo, hi) = o.placement.region;
+    let region = (hi - lo).x * (hi - lo).y * (hi - lo).z;
+    let span = o.walls.max - o.walls.min;
+    let report = GenerateReport {
+        placed: bodies.len(),
+        attempts: layout.attempts,
+        volume_fraction: volume / region,
+        box_fraction: volume / (span.x * span.y * span.z),
+        scenario: o.out.clone(),
+        body_file: body_file.clone(),
+    };
+    let text = BedScenario {
+        comment: vec![
+            format!("Generated by: {}", o.command),
+            format!(
+                "{} fibres, volume fraction {:.4} of the region, {:.4} of the box; {} placement attempts (seed {}).",
+                report.placed, report.volume_fraction, report.box_fraction, report.attempts, o.seed
+            ),
+        ],
+        dt: o.dt,
+        t_end: o.t_end,
+        gravity: o.gravity,
+        walls: Some(&o.walls),
+        materials: std::slice::from_ref(&o.material),
+        restitution: o.restitution,
+        start_overlap_ratio: None,
+        body_file: &body_file
+            .file_name()
+            .map_or(String::new(), |f| f.to_string_lossy().into_owned()),
+    }
+    .to_string();
+    std::fs::write(&o.out, text).map_err(|e| Error::io(&o.out, e))?;
+    Ok(report)
+}
