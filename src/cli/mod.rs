@@ -21,11 +21,16 @@ pub fn execute(cli: Cli) -> Result<()> {
             print(&CheckReport {
                 scene: &p.scene,
                 advice: &p.advice,
+                scene_warnings: &p.warnings,
             })
         }
         Command::Rotators(args) => match args.markdown {
             true => print(&rotator_markdown()),
             false => print(&rotator_table()),
+        },
+        Command::Keys(args) => match args.markdown {
+            true => print(&crate::scenario::keys::keys_markdown()),
+            false => print(&crate::scenario::keys::keys_text()),
         },
         Command::Compare(args) => {
             use crate::study::compare::{compare, print_report};
@@ -84,7 +89,7 @@ fn print(text: &dyn std::fmt::Display) -> Result<()> {
 
 /// `fibresim run`: warnings, the resumed outputs, the run, and its summary.
 fn run(plan: plan::RunPlan) -> Result<()> {
-    for w in &plan.advice.warnings {
+    for w in plan.warnings.iter().chain(&plan.advice.warnings) {
         eprintln!("warning: {w}");
     }
     let out_dir = &plan.opts.out_dir;
