@@ -52,13 +52,20 @@ fn every_written_column_and_key_has_a_unit_in_the_readme() {
         ("scenarios/torque_sphere.toml", vec!["--t-end", "0.01"]),
         ("scenarios/single_fibre.toml", vec!["--t-end", "1e-4"]),
         // A stop, so that `stopped` carries its fields.
-        ("scenarios/stress/spin.toml", vec!["--rotator", "euler", "--allow-large-dt"]),
+        (
+            "scenarios/stress/spin.toml",
+            vec!["--rotator", "euler", "--allow-large-dt"],
+        ),
     ] {
         let out = dir.path().join(scene.replace('/', "_"));
         let mut a = vec!["run", scene, "-q", "--out", out.to_str().unwrap()];
         a.extend(args);
         let o = fibresim(&a);
-        assert!(matches!(o.status.code(), Some(0 | 3)), "{}", String::from_utf8_lossy(&o.stderr));
+        assert!(
+            matches!(o.status.code(), Some(0 | 3)),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
         for csv in ["energy.csv", "orientation.csv"] {
             if let Ok(text) = std::fs::read_to_string(out.join(csv)) {
                 written.extend(text.lines().next().unwrap().split(',').map(str::to_string));
@@ -70,7 +77,13 @@ fn every_written_column_and_key_has_a_unit_in_the_readme() {
         keys(&s, &mut written);
     }
     assert!(written.contains("err_rad") && written.contains("max_overlap_ratio"));
-    assert!(written.contains("limit"), "the stop's fields are among them");
+    assert!(
+        written.contains("limit"),
+        "the stop's fields are among them"
+    );
     let missing: Vec<&String> = written.iter().filter(|k| !doc.contains(*k)).collect();
-    assert!(missing.is_empty(), "not in the README's Outputs table: {missing:?}");
+    assert!(
+        missing.is_empty(),
+        "not in the README's Outputs table: {missing:?}"
+    );
 }

@@ -157,18 +157,21 @@ pub struct ConvergeArgs {
 
 #[derive(Debug, Args)]
 pub struct PlotArgs {
-    /// CSV files (energy.csv, orientation.csv, convergence.csv, compare.csv, ...).
+    /// CSV files: energy.csv, orientation.csv (run); compare.csv (compare); convergence.csv, orders.csv, reference.csv (converge); stress.csv, stress_runs.csv (stress).
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
     /// Output figure, .png or .svg [default: next to the first file].
     #[arg(short = 'o', long = "output")]
     pub output: Option<PathBuf>,
-    /// Column to plot [default: energy_error_pct, err_rad or alpha_rad, whichever exists].
+    /// Column to plot [default: the first with data of energy_error_pct, err_rad, alpha_rad, energy_error_full_max_pct, max_error, order, richardson_alpha_rad, largest_stable_factor, ax].
     #[arg(long)]
     pub column: Option<String>,
-    /// Column on the x axis [default: t, else dt].
+    /// Column on the x axis [default: the first of t, dt, factor, wall_s, nominal_order, recommended_dt].
     #[arg(long)]
     pub x: Option<String>,
+    /// Plot an energy error with its sign, (E - E0)/|E0| (energy_error_pct, energy_error_full_pct of energy.csv); the files hold |E - E0|/|E0|.
+    #[arg(long)]
+    pub signed: bool,
     /// Force a logarithmic y axis. Without it an axis is logarithmic when its positive values span >= 2 decades and are spread over them; axes show units for known columns.
     #[arg(long = "log-y")]
     pub log_y: bool,

@@ -60,6 +60,7 @@ pub fn execute(cli: Cli) -> Result<()> {
                 x: args.x,
                 log_x: args.log_x,
                 log_y: args.log_y,
+                signed: args.signed,
             })?;
             println!("{}", out.display());
             Ok(())

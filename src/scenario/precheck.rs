@@ -52,7 +52,7 @@ pub(super) fn precheck(text: &str, source: &str) -> Result<Vec<String>> {
         }
     }
     for (i, b) in bodies.iter().enumerate() {
-        pass.body_rules(root, i, *b, contacts);
+        pass.body_rules(root, i, b, contacts);
     }
     let locate =
         |key: &str| super::locate(text, key).map_or(String::new(), |(l, c)| format!(":{l}:{c}"));

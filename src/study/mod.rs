@@ -9,6 +9,9 @@ pub mod csvplot;
 pub mod fit;
 pub mod order;
 pub mod stress;
+mod style;
+
+pub(crate) use style::{rotator_slot, slot_of_label};
 
 use crate::error::{Diagnosis, Error, Result};
 use crate::integrate::rotate::RotatorKind;
