@@ -218,6 +218,27 @@ fn first_with_data(t: &Table, names: &[&str]) -> Option<usize> {
         .find(|&i| t.numbers(i).iter().any(|v| v.is_finite()))
 }
 
+/// The default column of `t` for `flag`: the first of `names` with data,
+/// else the first present; else bad input listing the columns.
+fn default_of(t: &Table, names: &[&str], flag: &str) -> Result<usize> {
+    first_with_data(t, names)
+        .or_else(|| {
+            (flag == "--x")
+                .then(|| names.iter().find_map(|c| t.index(c)))
+                .flatten()
+        })
+        .ok_or_else(|| {
+            Error::bad(
+                t.path.display().to_string(),
+                flag,
+                format!(
+                    "no default column in this file; choose one with {flag} from: {}",
+                    t.header.join(", ")
+                ),
+            )
+        })
+}
+
 /// The signed energy error `(E − E₀)/|E₀| · 100` of an energy file, for
 /// column `name` (`energy_error_pct`: Eq. 64's energy; `energy_error_full_pct`:
 /// with the elastic energy).
@@ -264,31 +285,11 @@ pub fn plot_files(opts: &PlotOptions) -> Result<PathBuf> {
         let t = Table::read(f)?;
         let yc = match &opts.column {
             Some(c) => t.require(c, "--column")?,
-            None => first_with_data(&t, DEFAULT_Y).ok_or_else(|| {
-                Error::bad(
-                    f.display().to_string(),
-                    "--column",
-                    format!(
-                        "no default column in this file; choose one with --column from: {}",
-                        t.header.join(", ")
-                    ),
-                )
-            })?,
+            None => default_of(&t, DEFAULT_Y, "--column")?,
         };
         let xc = match &opts.x {
             Some(c) => t.require(c, "--x")?,
-            None => first_with_data(&t, DEFAULT_X)
-                .or_else(|| DEFAULT_X.iter().find_map(|c| t.index(c)))
-                .ok_or_else(|| {
-                    Error::bad(
-                        f.display().to_string(),
-                        "--x",
-                        format!(
-                            "no default x column in this file; choose one with --x from: {}",
-                            t.header.join(", ")
-                        ),
-                    )
-                })?,
+            None => default_of(&t, DEFAULT_X, "--x")?,
         };
         y_name = t.header[yc].clone();
         x_name = t.header[xc].clone();
