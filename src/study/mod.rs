@@ -155,7 +155,7 @@ impl StepBar {
     /// The run has completed `step` steps.
     pub(crate) fn at(&self, step: u64) {
         if let Some(b) = &self.bar {
-            if step % self.every == 0 {
+            if step.is_multiple_of(self.every) {
                 b.set_position(step);
             }
         }
@@ -180,7 +180,7 @@ pub(crate) fn sample_orientations(
     let bar = progress.step_bar(label, s.sim.steps());
     let mut q: Vec<DQuat> = s.initial.iter().map(|b| b.rot.q).collect();
     let r = integrate_observed(s, |w| {
-        if w.step % every == 0 {
+        if w.step.is_multiple_of(every) {
             q.extend(w.states.iter().map(|b| b.rot.q));
         }
         bar.at(w.step);
