@@ -854,6 +854,55 @@ fn legends_cover_no_data() {
     );
 }
 
+/// A long title over a chart whose legend sits outside (data in every
+/// corner) is centred on the canvas and wholly on it: plotters' caption
+/// centred it on the area left of the legend, and the README's convergence
+/// figure lost its first letters off the left edge.
+#[test]
+fn long_title_stays_on_the_canvas_beside_an_outside_legend() {
+    let x: Vec<f64> = (0..=40).map(|i| i as f64 / 40.0).collect();
+    let title = "torque_fibre.toml: Eq. 66-67 angle error vs time step (T = 0.1 s)";
+    let mut chart = Chart::new(title, "x (m)", "y (m)");
+    for (k, f) in [|v: f64| v, |v: f64| 1.0 - v, |_| 0.98, |_| 0.02]
+        .iter()
+        .enumerate()
+    {
+        chart.series.push(Series::new(
+            format!("a long legend entry {k}"),
+            x.clone(),
+            x.iter().map(|&v| f(v)).collect(),
+            Style::LineMarkers,
+        ));
+    }
+    let svg_path = out("long_title.svg");
+    render(&chart, &svg_path).unwrap();
+    let svg = std::fs::read_to_string(&svg_path).unwrap();
+    let (lx, ..) = legend_rect(&svg).expect("a legend");
+    assert!(lx > 600.0, "legend outside, right of the frame: x = {lx}");
+    let p = out("long_title.png");
+    render(&chart, &p).unwrap();
+    let img = Image::read(&p);
+    let frame = img.frame();
+    // Dark (text) pixels above the frame, left of the legend's top edge.
+    let dark: Vec<u32> = (0..frame.top.saturating_sub(5))
+        .flat_map(|y| (0..img.w).map(move |x| (x, y)))
+        .filter(|&(x, y)| img.at(x, y).iter().all(|&c| c < 110))
+        .map(|(x, _)| x)
+        .collect();
+    let (lo, hi) = (*dark.iter().min().unwrap(), *dark.iter().max().unwrap());
+    assert!(
+        lo >= 5 && hi + 5 <= img.w,
+        "title spans x = {lo}..{hi} of {}",
+        img.w
+    );
+    let centre = f64::from(lo + hi) / 2.0;
+    assert!(
+        (centre - f64::from(img.w) / 2.0).abs() < 15.0,
+        "title centred at {centre}, canvas at {}",
+        img.w / 2
+    );
+}
+
 /// Issue 12, item 15: a series equal to an earlier one is dashed over it
 /// and its legend says `(= …)`; one within a pixel says `(≈ …)`.
 #[test]

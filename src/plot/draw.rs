@@ -110,7 +110,16 @@ impl Figure for Chart {
             builder.margin_right(20 + width);
         }
         if !self.title.is_empty() {
-            builder.caption(&self.title, (FONT, 26));
+            // Centred on the canvas, not on the area left of an outside
+            // legend (plotters' own caption would be, and a long title then
+            // ran off the left edge); never left of the margin.
+            let style = (FONT, 26).into_font().into_text_style(root);
+            let (w, h) = root.estimate_text_size(&self.title, &style).map_err(err)?;
+            let pad = (h / 2).min(5);
+            let x = (WIDTH.saturating_sub(w) / 2).max(10);
+            root.draw_text(&self.title, &style, (x as i32, 20 + pad as i32))
+                .map_err(err)?;
+            builder.margin_top(20 + h + 2 * pad);
         }
         let mut ctx = builder
             .build_cartesian_2d(xa.clone(), ya.clone())
