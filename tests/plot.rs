@@ -816,6 +816,25 @@ fn assert_legend_covers_no_data(svg: &str, what: &str) {
     }
 }
 
+/// Four lines with markers through all four corners of the frame (no free
+/// corner for a legend), labelled `label 0` … `label 3`.
+fn corner_lines(title: &str, label: &str) -> Chart {
+    let x: Vec<f64> = (0..=40).map(|i| i as f64 / 40.0).collect();
+    let mut chart = Chart::new(title, "x (m)", "y (m)");
+    for (k, f) in [|v: f64| v, |v: f64| 1.0 - v, |_| 0.98, |_| 0.02]
+        .iter()
+        .enumerate()
+    {
+        chart.series.push(Series::new(
+            format!("{label} {k}"),
+            x.clone(),
+            x.iter().map(|&v| f(v)).collect(),
+            Style::LineMarkers,
+        ));
+    }
+    chart
+}
+
 /// Issue 12, item 16: the legend goes to a free corner, else outside the
 /// plot, never over data; with data in every corner it is outside, right
 /// of the frame.
@@ -824,22 +843,8 @@ fn legends_cover_no_data() {
     let p = out("legend_conv.svg");
     render(&convergence_chart(), &p).unwrap();
     assert_legend_covers_no_data(&std::fs::read_to_string(&p).unwrap(), "convergence chart");
-    // Lines through all four corners.
-    let x: Vec<f64> = (0..=40).map(|i| i as f64 / 40.0).collect();
-    let mut chart = Chart::new("corners", "x (m)", "y (m)");
-    for (k, f) in [|v: f64| v, |v: f64| 1.0 - v, |_| 0.98, |_| 0.02]
-        .iter()
-        .enumerate()
-    {
-        chart.series.push(Series::new(
-            format!("line {k}"),
-            x.clone(),
-            x.iter().map(|&v| f(v)).collect(),
-            Style::LineMarkers,
-        ));
-    }
     let p = out("legend_corners.svg");
-    render(&chart, &p).unwrap();
+    render(&corner_lines("corners", "line"), &p).unwrap();
     let svg = std::fs::read_to_string(&p).unwrap();
     assert_legend_covers_no_data(&svg, "corners");
     let y_axis_x = polylines(&svg, "#000000")
@@ -860,20 +865,10 @@ fn legends_cover_no_data() {
 /// figure lost its first letters off the left edge.
 #[test]
 fn long_title_stays_on_the_canvas_beside_an_outside_legend() {
-    let x: Vec<f64> = (0..=40).map(|i| i as f64 / 40.0).collect();
-    let title = "torque_fibre.toml: Eq. 66-67 angle error vs time step (T = 0.1 s)";
-    let mut chart = Chart::new(title, "x (m)", "y (m)");
-    for (k, f) in [|v: f64| v, |v: f64| 1.0 - v, |_| 0.98, |_| 0.02]
-        .iter()
-        .enumerate()
-    {
-        chart.series.push(Series::new(
-            format!("a long legend entry {k}"),
-            x.clone(),
-            x.iter().map(|&v| f(v)).collect(),
-            Style::LineMarkers,
-        ));
-    }
+    let chart = corner_lines(
+        "torque_fibre.toml: Eq. 66-67 angle error vs time step (T = 0.1 s)",
+        "a long legend entry",
+    );
     let svg_path = out("long_title.svg");
     render(&chart, &svg_path).unwrap();
     let svg = std::fs::read_to_string(&svg_path).unwrap();
