@@ -95,7 +95,7 @@ fn main() {
     let counters = std::cell::Cell::new(KernelCounters::default());
     while w.step < scene.sim.steps() {
         w.step_kind(scene.sim.rotator()).expect("step");
-        if w.step % every != 0 {
+        if !w.step.is_multiple_of(every) {
             continue;
         }
         println!(

@@ -27,6 +27,52 @@ fn numbers_after(line: &str, label: &str) -> Vec<f64> {
         .collect()
 }
 
+/// The cells of a row: split on runs of two or more spaces (the report's
+/// documented separator).
+fn cells(line: &str) -> Vec<String> {
+    line.trim()
+        .split("  ")
+        .map(str::trim)
+        .filter(|c| !c.is_empty())
+        .map(str::to_string)
+        .collect()
+}
+
+/// The table whose header row holds `column`: each row as (header, cell)
+/// pairs, until the first line that is not a row of it.
+fn table(text: &str, column: &str) -> Vec<Vec<(String, String)>> {
+    let mut lines = text
+        .lines()
+        .skip_while(|l| !cells(l).iter().any(|c| c == column));
+    let header = cells(
+        lines
+            .next()
+            .unwrap_or_else(|| panic!("no table with `{column}`:\n{text}")),
+    );
+    lines
+        .map(cells)
+        .take_while(|c| c.len() == header.len())
+        .map(|c| header.iter().cloned().zip(c).collect())
+        .collect()
+}
+
+/// Cell `column` of `row` as a number.
+fn num(row: &[(String, String)], column: &str) -> f64 {
+    let c = &row
+        .iter()
+        .find(|(h, _)| h == column)
+        .unwrap_or_else(|| panic!("{column}: {row:?}"))
+        .1;
+    c.parse().unwrap_or_else(|_| panic!("{column} = {c}"))
+}
+
+/// The row of `rows` whose first cell is `first`.
+fn row<'a>(rows: &'a [Vec<(String, String)>], first: &str) -> &'a [(String, String)] {
+    rows.iter()
+        .find(|r| r[0].1 == first)
+        .unwrap_or_else(|| panic!("no row `{first}` in {rows:?}"))
+}
+
 fn line_with<'a>(text: &'a str, needle: &str) -> &'a str {
     text.lines()
         .find(|l| l.contains(needle))
@@ -139,12 +185,30 @@ fn check_prints_mass_inertia_hertz_and_rayleigh_times() {
     let out = stdout(&fibresim(&["check", "scenarios/single_fibre.toml"]));
     let f = TC1;
     let (m, (ia, it)) = (f.mass(), f.inertia());
-    let body = line_with(&out, "[0] fibre");
-    close(numbers_after(body, "m = ")[0], m, "mass");
-    let i = numbers_after(body, "I = ");
-    close(i[0], ia, "I_axial");
-    close(i[1], it, "I_transverse");
-    close(i[2], it, "I_transverse");
+    assert!(
+        out.starts_with(
+            "scenario scenarios/single_fibre.toml: 1 body, dt = 1e-7 s, 20000000 steps (t_end = "
+        ),
+        "{out}"
+    );
+    let bodies = table(&out, "mass (kg)");
+    let body = row(&bodies, "0");
+    assert_eq!(body[1].1, "fibre", "name");
+    assert_eq!((num(body, "D (m)"), num(body, "L (m)")), (f.d, f.l));
+    close(num(body, "mass (kg)"), m, "mass");
+    close(num(body, "I_x (kg m^2)"), ia, "I_axial");
+    close(num(body, "I_y (kg m^2)"), it, "I_transverse");
+    close(num(body, "I_z (kg m^2)"), it, "I_transverse");
+    let materials = table(&out, "density (kg/m^3)");
+    let mat = row(&materials, "fibre");
+    assert_eq!(
+        (
+            num(mat, "density (kg/m^3)"),
+            num(mat, "young (Pa)"),
+            num(mat, "poisson (-)")
+        ),
+        (f.rho, f.e, f.nu)
+    );
 
     // At rest 0.5 m above the floor: E = m g h, all of it into the worst contact.
     let energy = m * 9.81 * 0.5;
@@ -157,10 +221,17 @@ fn check_prints_mass_inertia_hertz_and_rayleigh_times() {
     let t_h = hertz_time(m_eff, f.d / 2.0, e_star(f.e, f.nu, 5e7, 0.23), v);
     let t_r = f.rayleigh();
     let t_tilt = wall_tilt_period(&f, m_eff, e_star(f.e, f.nu, 5e7, 0.23), v);
-    let row = numbers_after(line_with(&out, "fibre–wall"), "fibre–wall");
-    let [ms, mt, vmax, th, tt, tr] = row[..] else {
-        panic!("{row:?}")
-    };
+    let pairs = table(&out, "t_Hertz (s)");
+    let wall = row(&pairs, "fibre – wall");
+    let [ms, mt, vmax, th, tt, tr] = [
+        "m* (kg)",
+        "m_trans (kg)",
+        "v_max (m/s)",
+        "t_Hertz (s)",
+        "t_tilt (s)",
+        "t_Rayleigh (s)",
+    ]
+    .map(|c| num(wall, c));
     close(ms, m_eff, "m*");
     close(mt, m, "m_trans");
     close(vmax, v, "v_max");
@@ -197,13 +268,19 @@ fn check_pairs_sum_effective_masses_and_speeds() {
     let energy = 0.5 * m * 2.0 + m * 9.81 * 0.75;
     close(numbers_after(&out, "E_avail = ")[0], energy, "E_avail");
     let m_eff = f.worst_effective_mass();
-    let row = numbers_after(line_with(&out, "same kind"), "same kind");
-    close(row[0], m_eff / 2.0, "m* of a pair");
-    close(row[1], m / 2.0, "m_trans of a pair");
+    let pairs = table(&out, "t_Hertz (s)");
+    let pair = row(&pairs, "fibre0 – fibre0 (same kind)");
+    close(num(pair, "m* (kg)"), m_eff / 2.0, "m* of a pair");
+    close(num(pair, "m_trans (kg)"), m / 2.0, "m_trans of a pair");
     let v = 2.0 * (2.0 * energy / m_eff).sqrt();
-    close(row[2], v, "v_max of a pair");
+    close(num(pair, "v_max (m/s)"), v, "v_max of a pair");
     let t_h = hertz_time(m_eff / 2.0, f.d / 4.0, e_star(f.e, f.nu, f.e, f.nu), v);
-    close(row[3], t_h, "t_Hertz of a pair");
+    close(num(pair, "t_Hertz (s)"), t_h, "t_Hertz of a pair");
+    assert!(
+        out.contains("scenarios/nine_fibres.toml: 9 bodies,"),
+        "{out}"
+    );
+    assert_eq!(table(&out, "mass (kg)").len(), 9);
 }
 
 /// A brute-force search over the cylinder's surface points and their
@@ -357,4 +434,44 @@ fn impact_speed_replaces_the_bound() {
         "-1",
     ]);
     assert_eq!(o.status.code(), Some(2));
+}
+
+/// Long body names do not push the columns out of line: every row of a
+/// table is as long as its header, and each header cell starts where its
+/// column does (numbers are right-aligned, so their column ends there).
+#[test]
+fn check_tables_stay_aligned_with_long_names() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/nine_fibres.toml"),
+    )
+    .unwrap()
+    .replacen(
+        "name = \"fibre0\"",
+        "name = \"a_fibre_with_a_rather_long_name\"",
+        1,
+    );
+    assert!(text.contains("a_fibre_with_a_rather_long_name"));
+    let out = stdout(&fibresim(&["check", &write_scene(dir.path(), &text)]));
+    for column in ["mass (kg)", "t_Hertz (s)"] {
+        let lines: Vec<&str> = out
+            .lines()
+            .skip_while(|l| !l.contains(column))
+            .take_while(|l| l.starts_with("  ") && !l.starts_with("  impact"))
+            .collect();
+        assert!(lines.len() >= 3, "{out}");
+        let width = lines[0].chars().count();
+        for l in &lines {
+            assert_eq!(l.chars().count(), width, "{column}:\n{}", lines.join("\n"));
+        }
+    }
+    let bodies = table(&out, "mass (kg)");
+    assert_eq!(row(&bodies, "0")[1].1, "a_fibre_with_a_rather_long_name");
+    let pairs = table(&out, "t_Hertz (s)");
+    assert!(
+        pairs
+            .iter()
+            .any(|r| r[0].1 == "a_fibre_with_a_rather_long_name – wall"),
+        "{pairs:?}"
+    );
 }

@@ -228,7 +228,7 @@ fn bad_input_is_named_and_exits_2() {
     expect_bad_input(
         Some(&FIBRE.replace("density", "densty")),
         &[],
-        &["unknown field `densty`", "line"],
+        &["scene.toml:9:1: body[0].densty: unknown field `densty`; did you mean `density`"],
     );
     expect_bad_input(
         Some(&FIBRE.replace("diameter = 0.01", "diameter = \"big\"")),

@@ -1,3 +1,6 @@
+mod common;
+use common::fibresim;
+
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -579,11 +582,18 @@ fn large_series_render() {
         let size = std::fs::metadata(&p).unwrap().len();
         eprintln!("1e5 noisy points + 1e5 dashed -> {ext}: {dt:?}, {size} bytes");
     }
-    // Uniform noise on [0, 1) fills the frame with both series.
+    // Uniform noise on [0, 1) fills the frame with both series; it covers
+    // every corner, so the legend (with its samples) is right of the frame.
     let img = Image::read(&out("noise_1e5.png"));
     let frame = img.frame();
     for c in [BLUE, VERMILLION] {
-        let f = inside(&frame, &img.pixels(c));
+        let (data, legend): (Vec<_>, Vec<_>) = img
+            .pixels(c)
+            .into_iter()
+            .partition(|p| p.0 <= frame.right + 2);
+        assert!(legend.iter().all(|p| p.0 > frame.right + 5), "{c:?}");
+        assert!(!legend.is_empty(), "{c:?}: the legend sample, outside");
+        let f = inside(&frame, &data);
         let (x0, x1) = span(f.iter().map(|p| p.0));
         let (y0, y1) = span(f.iter().map(|p| p.1));
         assert!(
@@ -647,14 +657,14 @@ fn line_markers_draw_one_shape_per_point() {
     render(&chart, &p).unwrap();
     let svg = std::fs::read_to_string(&p).unwrap();
     // The first slot (blue circles, drawn as closed 17-point paths): 5 points
-    // plus 2 strokes of the legend sample.
+    // plus the legend sample's.
     let closed = svg
         .split("<polyline")
         .skip(1)
         .map(|e| e.split('>').next().unwrap_or(""))
         .filter(|e| e.contains("stroke=\"#0072B2\"") && e.matches(',').count() == 17)
         .count();
-    assert_eq!(closed, 5 + 2, "circle markers");
+    assert_eq!(closed, 5 + 1, "circle markers");
     // Published values: black filled diamonds on top, one per point + legend,
     // taking no palette slot (the blue series keeps its colour).
     chart.series.insert(
@@ -679,4 +689,504 @@ fn line_markers_draw_one_shape_per_point() {
     let img = Image::read(&png);
     let frame = img.frame();
     assert!(!inside(&frame, &img.pixels(BLUE)).is_empty());
+}
+
+/// Issue 12, item 13 (plotters issue #549): a spiky series drawn with a
+/// 2 px line puts no pixel of its colour outside the frame in PNG (before,
+/// the line's outline polygon covered the tick labels and the title).
+#[test]
+fn png_lines_stay_inside_the_frame() {
+    let n = 3000;
+    let x: Vec<f64> = (0..n).map(|i| i as f64).collect();
+    // Every other point 0 or the maximum, with narrow spikes between.
+    let y: Vec<f64> = (0..n)
+        .map(|i| match i % 7 {
+            0 => 9.0,
+            3 => 0.0,
+            _ => 1.0 + (i % 3) as f64,
+        })
+        .collect();
+    let chart = Chart {
+        series: vec![Series::new("contacts", x, y, Style::Line)],
+        legend: LegendPos::Hidden,
+        ..Chart::new("spiky contacts", "time t (s)", "contacts (count)")
+    };
+    let p = out("spiky.png");
+    render(&chart, &p).unwrap();
+    let img = Image::read(&p);
+    // The frame from the SVG of the same chart (the same layout, exact
+    // axis lines), so what the PNG's lines cover cannot hide it.
+    let svg_path = out("spiky.svg");
+    render(&chart, &svg_path).unwrap();
+    let svg = std::fs::read_to_string(&svg_path).unwrap();
+    let axes: Vec<Vec<(f64, f64)>> = polylines(&svg, "#000000")
+        .into_iter()
+        .filter(|l| l.len() == 2)
+        .collect();
+    let longest = |horizontal: bool| {
+        axes.iter()
+            .filter(|l| (l[0].1 == l[1].1) == horizontal)
+            .max_by(|a, b| {
+                let len = |l: &Vec<(f64, f64)>| (l[1].0 - l[0].0).abs() + (l[1].1 - l[0].1).abs();
+                len(a).total_cmp(&len(b))
+            })
+            .unwrap()
+            .clone()
+    };
+    let (xa, ya) = (longest(true), longest(false));
+    let frame = Frame {
+        left: xa[0].0.min(xa[1].0) as u32,
+        right: xa[0].0.max(xa[1].0) as u32,
+        top: ya[0].1.min(ya[1].1) as u32,
+        bottom: ya[0].1.max(ya[1].1) as u32,
+    };
+    assert!(
+        frame.right > frame.left + 500 && frame.bottom > frame.top + 400,
+        "{frame:?}"
+    );
+    let outside: Vec<(u32, u32)> = img
+        .pixels(BLUE)
+        .into_iter()
+        .filter(|&(x, y)| {
+            x + 1 < frame.left || x > frame.right + 1 || y + 1 < frame.top || y > frame.bottom + 1
+        })
+        .collect();
+    assert!(
+        outside.is_empty(),
+        "{} data pixels outside {frame:?}, e.g. {:?}",
+        outside.len(),
+        &outside[..outside.len().min(5)]
+    );
+    // The line is drawn: it reaches the top and the bottom of the data.
+    let f = inside(&frame, &img.pixels(BLUE));
+    let (lo, hi) = span(f.iter().map(|p| p.1));
+    assert!(lo < 0.06 && hi > 0.94, "{lo}..{hi}");
+}
+
+/// The `<rect>` of the legend box in an SVG (its border is grey #969696).
+fn legend_rect(svg: &str) -> Option<(f64, f64, f64, f64)> {
+    svg.split("<rect").skip(1).find_map(|r| {
+        let r = r.split('>').next()?;
+        if !r.contains("stroke=\"#969696\"") {
+            return None;
+        }
+        let attr = |k: &str| -> Option<f64> {
+            r.split(&format!(" {k}=\""))
+                .nth(1)?
+                .split('"')
+                .next()?
+                .parse()
+                .ok()
+        };
+        Some((attr("x")?, attr("y")?, attr("width")?, attr("height")?))
+    })
+}
+
+/// No data line or marker of a palette colour passes under the legend box:
+/// every vertex, and points every 2 px along every segment, of the data
+/// polylines lie outside it (the samples in the box's left strip excepted).
+fn assert_legend_covers_no_data(svg: &str, what: &str) {
+    let (x, y, w, h) = legend_rect(svg).unwrap_or_else(|| panic!("{what}: no legend"));
+    let inside = |p: (f64, f64)| p.0 > x && p.0 < x + w && p.1 > y && p.1 < y + h;
+    let strip = |p: &(f64, f64)| p.0 >= x && p.0 <= x + 12.0 + 34.0 && p.1 >= y && p.1 <= y + h;
+    let palette: Vec<String> = (0..10)
+        .map(|k| {
+            let c = fibresim::plot::slot_colour(k);
+            format!("#{:02X}{:02X}{:02X}", c[0], c[1], c[2])
+        })
+        .collect();
+    for colour in &palette {
+        for line in polylines(svg, colour) {
+            if line.iter().all(strip) {
+                continue; // a legend sample
+            }
+            for seg in line.windows(2) {
+                let (a, b) = (seg[0], seg[1]);
+                let k = ((b.0 - a.0).hypot(b.1 - a.1) / 2.0).ceil().max(1.0) as usize;
+                for i in 0..=k {
+                    let t = i as f64 / k as f64;
+                    let p = (a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1));
+                    assert!(
+                        !inside(p),
+                        "{what}: {colour} data at {p:?} under the legend {x} {y} {w} {h}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// Four lines with markers through all four corners of the frame (no free
+/// corner for a legend), labelled `label 0` … `label 3`.
+fn corner_lines(title: &str, label: &str) -> Chart {
+    let x: Vec<f64> = (0..=40).map(|i| i as f64 / 40.0).collect();
+    let mut chart = Chart::new(title, "x (m)", "y (m)");
+    for (k, f) in [|v: f64| v, |v: f64| 1.0 - v, |_| 0.98, |_| 0.02]
+        .iter()
+        .enumerate()
+    {
+        chart.series.push(Series::new(
+            format!("{label} {k}"),
+            x.clone(),
+            x.iter().map(|&v| f(v)).collect(),
+            Style::LineMarkers,
+        ));
+    }
+    chart
+}
+
+/// Issue 12, item 16: the legend goes to a free corner, else outside the
+/// plot, never over data; with data in every corner it is outside, right
+/// of the frame.
+#[test]
+fn legends_cover_no_data() {
+    let p = out("legend_conv.svg");
+    render(&convergence_chart(), &p).unwrap();
+    assert_legend_covers_no_data(&std::fs::read_to_string(&p).unwrap(), "convergence chart");
+    let p = out("legend_corners.svg");
+    render(&corner_lines("corners", "line"), &p).unwrap();
+    let svg = std::fs::read_to_string(&p).unwrap();
+    assert_legend_covers_no_data(&svg, "corners");
+    let y_axis_x = polylines(&svg, "#000000")
+        .into_iter()
+        .filter(|p| p.len() == 2 && p[0].1 == p[1].1)
+        .map(|p| p[0].0.max(p[1].0))
+        .fold(0.0, f64::max);
+    let (lx, ..) = legend_rect(&svg).unwrap();
+    assert!(
+        lx > y_axis_x,
+        "legend at x = {lx}, frame ends at {y_axis_x}"
+    );
+}
+
+/// A long title over a chart whose legend sits outside (data in every
+/// corner) is centred on the canvas and wholly on it: plotters' caption
+/// centred it on the area left of the legend, and the README's convergence
+/// figure lost its first letters off the left edge.
+#[test]
+fn long_title_stays_on_the_canvas_beside_an_outside_legend() {
+    let chart = corner_lines(
+        "torque_fibre.toml: Eq. 66-67 angle error vs time step (T = 0.1 s)",
+        "a long legend entry",
+    );
+    let svg_path = out("long_title.svg");
+    render(&chart, &svg_path).unwrap();
+    let svg = std::fs::read_to_string(&svg_path).unwrap();
+    let (lx, ..) = legend_rect(&svg).expect("a legend");
+    assert!(lx > 600.0, "legend outside, right of the frame: x = {lx}");
+    let p = out("long_title.png");
+    render(&chart, &p).unwrap();
+    let img = Image::read(&p);
+    let frame = img.frame();
+    // Dark (text) pixels above the frame, left of the legend's top edge.
+    let dark: Vec<u32> = (0..frame.top.saturating_sub(5))
+        .flat_map(|y| (0..img.w).map(move |x| (x, y)))
+        .filter(|&(x, y)| img.at(x, y).iter().all(|&c| c < 110))
+        .map(|(x, _)| x)
+        .collect();
+    let (lo, hi) = (*dark.iter().min().unwrap(), *dark.iter().max().unwrap());
+    assert!(
+        lo >= 5 && hi + 5 <= img.w,
+        "title spans x = {lo}..{hi} of {}",
+        img.w
+    );
+    let centre = f64::from(lo + hi) / 2.0;
+    assert!(
+        (centre - f64::from(img.w) / 2.0).abs() < 15.0,
+        "title centred at {centre}, canvas at {}",
+        img.w / 2
+    );
+}
+
+/// Issue 12, item 15: a series equal to an earlier one is dashed over it
+/// and its legend says `(= …)`; one within a pixel says `(≈ …)`.
+#[test]
+fn coincident_series_are_told_apart() {
+    let x: Vec<f64> = (0..200).map(|i| i as f64).collect();
+    let a: Vec<f64> = x.iter().map(|v| (v / 30.0).sin()).collect();
+    let near: Vec<f64> = a.iter().map(|v| v + 1e-6).collect();
+    let other: Vec<f64> = a.iter().map(|v| v + 0.5).collect();
+    let chart = Chart {
+        series: vec![
+            Series::new("euler", x.clone(), a.clone(), Style::Line),
+            Series::new("scalar", x.clone(), a, Style::Line),
+            Series::new("direct", x.clone(), near, Style::Line),
+            Series::new("pcdm", x, other, Style::Line),
+        ],
+        ..Chart::new("twins", "t (s)", "error (rad)")
+    };
+    let p = out("twins.svg");
+    render(&chart, &p).unwrap();
+    let svg = std::fs::read_to_string(&p).unwrap();
+    let text = |t: &str| svg.lines().any(|l| l.trim() == t);
+    assert!(text("scalar (= euler)"), "scalar's entry");
+    assert!(
+        text("direct (≈ scalar)") || text("direct (≈ euler)"),
+        "direct's entry"
+    );
+    assert!(text("pcdm") && text("euler"));
+    // euler: one polyline; scalar (vermillion) and direct (green): dashes.
+    let count = |c: &str| {
+        polylines(&svg, c)
+            .into_iter()
+            .filter(|l| l.len() >= 2)
+            .count()
+    };
+    assert_eq!(count("#0072B2"), 2, "euler's line and legend sample");
+    assert!(
+        count("#D55E00") > 20 && count("#009E73") > 20,
+        "dashed twins"
+    );
+    assert_eq!(count("#CC79A7"), 2, "pcdm's line and legend sample");
+}
+
+/// `#RRGGBB` of rotator `name`'s colour: its place in the rotator list.
+fn rotator_colour(name: &str) -> String {
+    let k = fibresim::integrate::rotate::RotatorKind::SELECTABLE
+        .iter()
+        .position(|r| r.name() == name)
+        .unwrap();
+    let c = fibresim::plot::slot_colour(k);
+    format!("#{:02X}{:02X}{:02X}", c[0], c[1], c[2])
+}
+
+fn run_ok(args: &[&str]) {
+    let o = fibresim(args);
+    assert!(
+        o.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+/// Issue 12, item 14: a rotator has one colour in every figure, whatever
+/// else is in it: pcdm alone is drawn in pcdm's colour, not in the first
+/// palette colour (euler's), in `compare`, `converge`, `plot` and the
+/// stress map (its row marker).
+#[test]
+fn one_colour_per_rotator_in_every_figure() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |s: &str| dir.path().join(s).display().to_string();
+    let (pcdm, euler) = (rotator_colour("pcdm"), rotator_colour("euler"));
+    assert_ne!(pcdm, euler);
+    let svg = |p: String| std::fs::read_to_string(p).unwrap();
+    let drawn = |svg: &str, c: &str| polylines(svg, c).iter().any(|l| l.len() > 2);
+    for rotators in ["pcdm", "euler,pcdm", "rk4,pcdm,euler"] {
+        let o = d(&format!("cmp_{rotators}"));
+        run_ok(&[
+            "compare",
+            "scenarios/torque_sphere.toml",
+            "--rotators",
+            rotators,
+            "--t-end",
+            "0.05",
+            "-q",
+            "--out",
+            &o,
+        ]);
+        let s = svg(format!("{o}/angle_error_closed_form.svg"));
+        assert!(drawn(&s, &pcdm), "compare {rotators}: pcdm in {pcdm}");
+        assert_eq!(
+            drawn(&s, &euler),
+            rotators.contains("euler"),
+            "compare {rotators}"
+        );
+        // plot of the runs of that compare: labelled by their folder.
+        let p = d(&format!("plot_{rotators}.svg"));
+        let files: Vec<String> = rotators
+            .split(',')
+            .map(|r| format!("{o}/{r}/orientation.csv"))
+            .collect();
+        let mut args = vec!["plot"];
+        args.extend(files.iter().map(String::as_str));
+        args.extend(["-o", &p]);
+        run_ok(&args);
+        let s = svg(p);
+        assert!(drawn(&s, &pcdm), "plot {rotators}");
+        assert_eq!(
+            drawn(&s, &euler),
+            rotators.contains("euler"),
+            "plot {rotators}"
+        );
+    }
+    let o = d("conv");
+    run_ok(&[
+        "converge",
+        "scenarios/torque_sphere.toml",
+        "--rotators",
+        "rk4,pcdm",
+        "--points",
+        "3",
+        "-q",
+        "--out",
+        &o,
+    ]);
+    let s = svg(format!("{o}/convergence.svg"));
+    assert!(drawn(&s, &pcdm) && drawn(&s, &rotator_colour("rk4")) && !drawn(&s, &euler));
+    let o = d("stress");
+    run_ok(&[
+        "stress",
+        "--cases",
+        "spin",
+        "--rotators",
+        "pcdm",
+        "--factors",
+        "1",
+        "-q",
+        "--out",
+        &o,
+    ]);
+    let s = svg(format!("{o}/stability_map.svg"));
+    assert!(
+        !polylines(&s, &pcdm).is_empty(),
+        "stress map: pcdm's row marker"
+    );
+    assert!(polylines(&s, &euler).is_empty(), "stress map");
+}
+
+/// Issue 12, item 17: `plot --signed` shows gain and loss; the default is
+/// the absolute error, and each figure's title says which.
+#[test]
+fn signed_energy_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("energy.csv");
+    // E = 1, 1.1, 0.9 J: +10 % and −10 %; the files hold |E − E₀|/|E₀|.
+    std::fs::write(
+        &csv,
+        "step,t,e_total,e_elastic,energy_error_pct,energy_error_full_pct,energy_error_window_max_pct\n\
+         0,0,1,0,0,0,0\n1,0.1,1.1,0,10,10,10\n2,0.2,0.9,0,10,10,10\n",
+    )
+    .unwrap();
+    let c = csv.to_str().unwrap();
+    let (abs, signed) = (dir.path().join("abs.svg"), dir.path().join("signed.svg"));
+    run_ok(&["plot", c, "-o", abs.to_str().unwrap()]);
+    run_ok(&["plot", c, "--signed", "-o", signed.to_str().unwrap()]);
+    let (a, s) = (
+        std::fs::read_to_string(&abs).unwrap(),
+        std::fs::read_to_string(&signed).unwrap(),
+    );
+    assert!(a.contains("(absolute: |E − E₀|/|E₀|)"), "absolute title");
+    assert!(s.contains("(signed: above 0 is a gain)"), "signed title");
+    let ticks = |svg: &str| -> Vec<f64> {
+        svg.split("<text")
+            .skip(1)
+            .filter_map(|t| t.split('>').nth(1)?.split('<').next()?.trim().parse().ok())
+            .collect()
+    };
+    let (ta, ts) = (ticks(&a), ticks(&s));
+    assert!(ta.iter().all(|&v| v >= 0.0) && ta.contains(&10.0), "{ta:?}");
+    assert!(ts.contains(&-10.0) && ts.contains(&10.0), "{ts:?}");
+    let o = fibresim(&[
+        "plot",
+        c,
+        "--signed",
+        "--column",
+        "energy_error_window_max_pct",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--signed"));
+}
+
+/// Issue 12, item 18: every CSV file `plot --help` names plots with its
+/// defaults, and the help names every CSV file the commands write.
+#[test]
+fn every_file_plot_help_names_is_plottable() {
+    let help = String::from_utf8(fibresim(&["plot", "--help"]).stdout).unwrap();
+    let named: std::collections::BTreeSet<String> = help
+        .split(|c: char| c.is_whitespace() || c == ',' || c == ':' || c == '(' || c == ')')
+        .filter(|w| w.ends_with(".csv"))
+        .map(str::to_string)
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let d = |s: &str| dir.path().join(s).display().to_string();
+    run_ok(&[
+        "run",
+        "scenarios/torque_fibre.toml",
+        "--t-end",
+        "0.001",
+        "-q",
+        "--out",
+        &d("run"),
+    ]);
+    run_ok(&[
+        "run",
+        "scenarios/single_fibre.toml",
+        "--t-end",
+        "1e-4",
+        "-q",
+        "--out",
+        &d("contact"),
+    ]);
+    run_ok(&[
+        "compare",
+        "scenarios/torque_sphere.toml",
+        "--t-end",
+        "0.05",
+        "-q",
+        "--out",
+        &d("compare"),
+    ]);
+    run_ok(&[
+        "converge",
+        "scenarios/torque_sphere.toml",
+        "--rotators",
+        "pcdm,euler",
+        "--points",
+        "3",
+        "-q",
+        "--out",
+        &d("converge"),
+    ]);
+    run_ok(&[
+        "stress",
+        "--cases",
+        "spin",
+        "--factors",
+        "1,2",
+        "--rotators",
+        "pcdm",
+        "-q",
+        "--out",
+        &d("stress"),
+    ]);
+    let mut written = std::collections::BTreeSet::new();
+    let mut plotted = 0;
+    for sub in [
+        "run",
+        "contact",
+        "compare",
+        "compare/pcdm",
+        "converge",
+        "stress",
+    ] {
+        for e in std::fs::read_dir(d(sub)).unwrap() {
+            let p = e.unwrap().path();
+            if p.extension().is_none_or(|x| x != "csv") {
+                continue;
+            }
+            let name = p.file_name().unwrap().to_string_lossy().into_owned();
+            assert!(
+                named.contains(&name),
+                "plot --help does not name {name}: {named:?}"
+            );
+            written.insert(name);
+            let fig = p.with_extension("svg");
+            let o = fibresim(&["plot", p.to_str().unwrap(), "-o", fig.to_str().unwrap()]);
+            assert!(
+                o.status.success(),
+                "{}: {}",
+                p.display(),
+                String::from_utf8_lossy(&o.stderr)
+            );
+            let svg = std::fs::read_to_string(&fig).unwrap();
+            assert!(
+                !svg.contains("no finite data"),
+                "{}: nothing drawn",
+                p.display()
+            );
+            plotted += 1;
+        }
+    }
+    assert_eq!(written, named, "the files written are the files named");
+    assert!(plotted >= 9, "{plotted}");
 }

@@ -30,7 +30,7 @@ fn run(dir: &Path, scene: &Path, threads: Option<&str>, env: Option<&str>) -> (S
     let summary: String = std::fs::read_to_string(out.join("summary.json"))
         .unwrap()
         .lines()
-        .filter(|l| !l.contains("wall_s") && !l.contains("ns_per_body_step"))
+        .filter(|l| !l.contains("\"wall_") && !l.contains("ns_per_body_step"))
         .collect::<Vec<_>>()
         .join("\n");
     (energy, summary)

@@ -164,6 +164,8 @@ fn kinds(scene: &Scene, v_max: &[f64]) -> (Vec<(usize, usize, f64)>, bool) {
             let (d, l) = match b.shape {
                 Shape::Fibre { diameter, length } => (diameter, length),
                 Shape::Sphere { diameter } => (diameter, -1.0),
+                // Rigid bodies are contact-free: never in a pair; a kind of their own.
+                Shape::Rigid { semi_axes } => (semi_axes.max_element(), -2.0),
             };
             let key = match by_size {
                 true => (b.material, d.to_bits(), l.to_bits()),

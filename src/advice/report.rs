@@ -1,7 +1,12 @@
 //! The report of `fibresim check`: the scene, what will run, and the
 //! time-step advice, as text.
+//!
+//! Tables have a header row with the unit of every column and are aligned;
+//! cells never hold two spaces in a row, so a script splits a row on runs
+//! of two or more spaces (pandas: `read_csv(..., sep=r"\s{2,}")`).
 
 use super::Advice;
+use crate::body::Shape;
 use crate::scenario::Scene;
 use std::fmt;
 
@@ -11,6 +16,78 @@ pub struct CheckReport<'a> {
     pub scene: &'a Scene,
     /// Its advice.
     pub advice: &'a Advice,
+    /// The scenario's own warnings (values outside engineering practice).
+    pub scene_warnings: &'a [String],
+}
+
+/// `1 body`, `9 bodies`.
+fn count(n: u64, one: &str, many: &str) -> String {
+    if n == 1 {
+        format!("1 {one}")
+    } else {
+        format!("{n} {many}")
+    }
+}
+
+/// Rows of cells under a header, each column as wide as its widest cell,
+/// two spaces apart; numbers right-aligned, text left-aligned.
+fn table(f: &mut fmt::Formatter<'_>, header: &[&str], rows: &[Vec<String>]) -> fmt::Result {
+    let width: Vec<usize> = (0..header.len())
+        .map(|c| {
+            rows.iter()
+                .map(|r| r[c].chars().count())
+                .chain([header[c].chars().count()])
+                .max()
+                .unwrap_or(0)
+        })
+        .collect();
+    let numeric: Vec<bool> = (0..header.len())
+        .map(|c| {
+            rows.iter()
+                .all(|r| r[c].parse::<f64>().is_ok() || r[c] == "–")
+        })
+        .collect();
+    let line = |cells: Vec<&str>| -> String {
+        let parts: Vec<String> = cells
+            .iter()
+            .enumerate()
+            .map(|(c, s)| {
+                let pad = width[c] - s.chars().count();
+                if numeric[c] {
+                    format!("{}{s}", " ".repeat(pad))
+                } else {
+                    format!("{s}{}", " ".repeat(pad))
+                }
+            })
+            .collect();
+        format!("  {}", parts.join("  ").trim_end())
+    };
+    writeln!(f, "{}", line(header.to_vec()))?;
+    for r in rows {
+        writeln!(f, "{}", line(r.iter().map(String::as_str).collect()))?;
+    }
+    Ok(())
+}
+
+/// A body's shape and its dimensions, m.
+fn shape_cells(s: &Shape) -> [String; 3] {
+    match *s {
+        Shape::Fibre { diameter, length } => {
+            ["fibre".into(), format!("{diameter}"), format!("{length}")]
+        }
+        Shape::Sphere { diameter } => ["sphere".into(), format!("{diameter}"), "–".into()],
+        Shape::Rigid { .. } => ["rigid".into(), "–".into(), "–".into()],
+    }
+}
+
+/// The advice's pair label (`A–wall`, `A–same kind`, `A–B`) as the report
+/// writes it: `A – wall`, `A – A (same kind)`, `A – B`.
+fn pair_label(pair: &str) -> String {
+    if let Some(a) = pair.strip_suffix("–same kind") {
+        format!("{a} – {a} (same kind)")
+    } else {
+        pair.replacen('–', " – ", 1)
+    }
 }
 
 impl fmt::Display for CheckReport<'_> {
@@ -18,34 +95,91 @@ impl fmt::Display for CheckReport<'_> {
         let (scene, a) = (self.scene, self.advice);
         writeln!(
             f,
-            "scenario {}: {} bodies, dt = {:e} s, {} steps, rotator {}",
+            "scenario {}: {}, dt = {:e} s, {} (t_end = {} s), rotator {}",
             scene.source,
-            scene.bodies.len(),
+            count(scene.bodies.len() as u64, "body", "bodies"),
             scene.sim.dt(),
-            scene.sim.steps(),
+            count(scene.sim.steps(), "step", "steps"),
+            scene.sim.t_end(),
             scene.sim.rotator()
         )?;
         writeln!(
             f,
-            "\nbodies (mass kg; principal inertia kg m^2, body x y z):"
+            "\nbodies (principal moments of inertia about body x, y, z):"
         )?;
         // A bed lists its first bodies only.
         const LISTED: usize = 20;
-        for (i, b) in scene.bodies.iter().enumerate().take(LISTED) {
-            let p = b.inertia.principal;
-            writeln!(
-                f,
-                "  [{i}] {:<10} {:?}  m = {:.4e}  I = ({:.4e}, {:.4e}, {:.4e})",
-                scene.name(i),
-                b.shape,
-                b.mass,
-                p.x,
-                p.y,
-                p.z
-            )?;
-        }
+        let rows: Vec<Vec<String>> = scene
+            .bodies
+            .iter()
+            .enumerate()
+            .take(LISTED)
+            .map(|(i, b)| {
+                let [shape, d, l] = shape_cells(&b.shape);
+                let p = b.inertia.principal;
+                vec![
+                    i.to_string(),
+                    scene.name(i).replace("  ", " "),
+                    shape,
+                    d,
+                    l,
+                    scene.material(i).name.clone(),
+                    format!("{:.4e}", b.mass),
+                    format!("{:.4e}", p.x),
+                    format!("{:.4e}", p.y),
+                    format!("{:.4e}", p.z),
+                ]
+            })
+            .collect();
+        table(
+            f,
+            &[
+                "#",
+                "name",
+                "shape",
+                "D (m)",
+                "L (m)",
+                "material",
+                "mass (kg)",
+                "I_x (kg m^2)",
+                "I_y (kg m^2)",
+                "I_z (kg m^2)",
+            ],
+            &rows,
+        )?;
         if scene.bodies.len() > LISTED {
             writeln!(f, "  ... and {} more", scene.bodies.len() - LISTED)?;
+        }
+        if !scene.materials.is_empty() {
+            writeln!(f, "\nmaterials:")?;
+            let rows: Vec<Vec<String>> = scene
+                .materials
+                .iter()
+                .map(|m| {
+                    let or_dash = |x: f64| {
+                        if x.is_finite() {
+                            format!("{x:e}")
+                        } else {
+                            "–".into()
+                        }
+                    };
+                    vec![
+                        m.name.clone(),
+                        format!("{}", m.density),
+                        or_dash(m.young),
+                        if m.poisson.is_finite() {
+                            format!("{}", m.poisson)
+                        } else {
+                            "–".into()
+                        },
+                    ]
+                })
+                .collect();
+            table(
+                f,
+                &["material", "density (kg/m^3)", "young (Pa)", "poisson (-)"],
+                &rows,
+            )?;
         }
         let search = match scene.bodies.len() {
             _ if !scene.needs_contacts() => "off".to_string(),
@@ -53,48 +187,56 @@ impl fmt::Display for CheckReport<'_> {
             n if n <= 32 => format!("{n} bodies, all pairs"),
             n => format!("{n} bodies, sort-and-sweep"),
         };
-        writeln!(f, "\ncomponents: gravity {}, walls {}, contact search {}, prescribed torques on {} bodies, closed-form reference {}",
+        writeln!(
+            f,
+            "\nwhat will run: gravity {}; walls {}; contact search {}; prescribed torques on {}; closed-form reference {}",
             if scene.gravity.is_some() { "on" } else { "off" },
             if scene.walls.is_some() { "6 half-spaces" } else { "none" },
             search,
-            scene.torques.len(),
-            if scene.reference.is_some() { "yes" } else { "no" })?;
+            count(scene.torques.len() as u64, "body", "bodies"),
+            if scene.reference.is_some() { "yes" } else { "no" }
+        )?;
         if !a.pairs.is_empty() {
+            writeln!(f, "\ncontact pairs (one row per kind of pair: bodies of the same shape and material are one kind, named by its first body):")?;
+            let rows: Vec<Vec<String>> = a
+                .pairs
+                .iter()
+                .map(|p| {
+                    vec![
+                        pair_label(&p.pair),
+                        format!("{:.4e}", p.reduced_mass),
+                        format!("{:.4e}", p.translational_mass),
+                        format!("{:.4e}", p.v_max),
+                        format!("{:.4e}", p.contact_time),
+                        format!("{:.4e}", p.tilt_period),
+                        format!("{:.4e}", p.rayleigh_time),
+                    ]
+                })
+                .collect();
+            table(
+                f,
+                &[
+                    "pair",
+                    "m* (kg)",
+                    "m_trans (kg)",
+                    "v_max (m/s)",
+                    "t_Hertz (s)",
+                    "t_tilt (s)",
+                    "t_Rayleigh (s)",
+                ],
+                &rows,
+            )?;
             match a.impact_speed {
-                Some(v) => writeln!(f, "\nimpact speed given: v_max = {v:e} m/s for every pair (--impact-speed)")?,
-                None => writeln!(f, "\nimpact speeds bounded per body: E_i = its kinetic + rotational energy + its fall to the box floor; largest E_avail = {:.4e} J", a.available_energy)?,
+                Some(v) => writeln!(f, "  impact speed given: v_max = {v:e} m/s for every pair (--impact-speed)")?,
+                None => writeln!(f, "  impact speeds bounded per body: E_i = its kinetic + rotational energy + its fall to the box floor; largest E_avail = {:.4e} J", a.available_energy)?,
             }
             if a.grouped_by_material {
                 writeln!(f, "  (more than 16 fibre sizes: grouped by material, each group as its lightest fibre at its fastest speed)")?;
             }
-            writeln!(f, "m* = effective mass at the worst contact point: 1/m_eff = 1/m + |r x n|^2 / I_transverse, lever arm")?;
+            writeln!(f, "  m* = effective mass at the worst contact point: 1/m_eff = 1/m + |r x n|^2 / I_transverse, lever arm")?;
             writeln!(f, "  |r x n| = max(D/2, L/2) (a fibre's end hit along its side normal); a pair sums 1/m_eff of its bodies")?;
             writeln!(f, "  and their bounds v_max = sqrt(2 E_i / m_eff) (largest of the kind); m_trans = the translational mass alone;")?;
             writeln!(f, "  t_tilt = period of an end face rocking on the contact under the peak force of that impact")?;
-            writeln!(
-                f,
-                "  {:<24} {:>11} {:>12} {:>11} {:>13} {:>13} {:>14}",
-                "pair",
-                "m* (kg)",
-                "m_trans (kg)",
-                "v_max (m/s)",
-                "t_Hertz (s)",
-                "t_tilt (s)",
-                "t_Rayleigh (s)"
-            )?;
-            for p in &a.pairs {
-                writeln!(
-                    f,
-                    "  {:<24} {:>11.4e} {:>12.4e} {:>11.4e} {:>13.4e} {:>13.4e} {:>14.4e}",
-                    p.pair,
-                    p.reduced_mass,
-                    p.translational_mass,
-                    p.v_max,
-                    p.contact_time,
-                    p.tilt_period,
-                    p.rayleigh_time
-                )?;
-            }
         }
         match a.recommended_dt {
             Some(r) => writeln!(f, "\nrecommended dt <= {r:.3e} s (shortest collision / 50, fastest face tilt / 50, and 0.2 x Rayleigh time); chosen dt = {:e} s, margin {:.3}x", scene.sim.dt(), r / scene.sim.dt())?,
@@ -114,7 +256,7 @@ impl fmt::Display for CheckReport<'_> {
                 }
             )?;
         }
-        for w in &a.warnings {
+        for w in self.scene_warnings.iter().chain(&a.warnings) {
             writeln!(f, "warning: {w}")?;
         }
         Ok(())

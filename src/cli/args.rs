@@ -45,6 +45,8 @@ pub enum Command {
     Check(CheckArgs),
     /// List the rotators with their equations, order and torque contract.
     Rotators(RotatorsArgs),
+    /// List every scenario key: its table, unit, default, allowed values and an example (docs/scenario.md has the full reference).
+    Keys(KeysArgs),
     /// Run several rotators on one scene at one time step (in parallel) and plot their errors against time.
     Compare(CompareArgs),
     /// Error against time step for each rotator: observed orders, convergence and work-precision figures.
@@ -188,6 +190,13 @@ pub struct RotatorsArgs {
 }
 
 #[derive(Debug, Args)]
+pub struct KeysArgs {
+    /// Print docs/scenario.md's markdown tables instead.
+    #[arg(long)]
+    pub markdown: bool,
+}
+
+#[derive(Debug, Args)]
 pub struct StressArgs {
     /// Comma-separated rotator names, `paper` (pcdm,scalar,euler,leapfrog) or `all`.
     #[arg(long, default_value = "all")]
@@ -199,13 +208,17 @@ pub struct StressArgs {
     #[arg(long, default_value = "scenarios/stress")]
     pub dir: PathBuf,
     /// Comma-separated multiples of each case's recommended dt.
-    #[arg(long, default_value = "0.25,0.5,1,2,4,8,16,32,64,128")]
+    #[arg(
+        long,
+        default_value = "0.25,0.5,1,2,4,8,16,32,64,128",
+        allow_hyphen_values = true
+    )]
     pub factors: String,
     /// A finished run is inaccurate above this energy (contact-free: also angular momentum) error, percent.
-    #[arg(long = "energy-tol", default_value_t = crate::study::stress::ENERGY_TOL_PCT)]
+    #[arg(long = "energy-tol", default_value_t = crate::study::stress::ENERGY_TOL_PCT, allow_hyphen_values = true)]
     pub energy_tol: f64,
     /// A finished run is inaccurate when its final velocities and angular momenta are off the rk4 reference by more than this percent of the largest rim speed.
-    #[arg(long = "outcome-tol", default_value_t = crate::study::stress::OUTCOME_TOL_PCT)]
+    #[arg(long = "outcome-tol", default_value_t = crate::study::stress::OUTCOME_TOL_PCT, allow_hyphen_values = true)]
     pub outcome_tol: f64,
     /// Output folder.
     #[arg(long, default_value = "out/stress")]
@@ -223,10 +236,10 @@ pub struct CompareArgs {
     #[arg(long, default_value = "paper")]
     pub rotators: String,
     /// Time step, s [default: the scene's].
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub dt: Option<f64>,
     /// End time, s [default: the scene's].
-    #[arg(long = "t-end")]
+    #[arg(long = "t-end", allow_hyphen_values = true)]
     pub t_end: Option<f64>,
     /// Output folder [default: out/<scenario>/compare].
     #[arg(long)]
@@ -244,19 +257,23 @@ pub struct ConvergeArgs {
     #[arg(long, default_value = crate::study::converge::DEFAULT_ROTATORS)]
     pub rotators: String,
     /// Largest time step, s [default: 10x the scene's: 1e-5 for test case 4, the paper's range].
-    #[arg(long = "dt-max")]
+    #[arg(long = "dt-max", allow_hyphen_values = true)]
     pub dt_max: Option<f64>,
     /// Smallest time step, s [default: the scene's / 10; 1e-7 for test case 4].
-    #[arg(long = "dt-min")]
+    #[arg(long = "dt-min", allow_hyphen_values = true)]
     pub dt_min: Option<f64>,
     /// Number of time steps, geometric from dt-max to dt-min (each rounded to a whole multiple of the reference step).
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 5, allow_negative_numbers = true)]
     pub points: usize,
     /// End time, s [default: the scene's].
-    #[arg(long = "t-end")]
+    #[arg(long = "t-end", allow_hyphen_values = true)]
     pub t_end: Option<f64>,
     /// Scenes without a closed form: the rk4 reference step is dt-min / this.
-    #[arg(long = "ref-factor", default_value_t = 10.0)]
+    #[arg(
+        long = "ref-factor",
+        default_value_t = 10.0,
+        allow_hyphen_values = true
+    )]
     pub ref_factor: f64,
     /// Output folder [default: out/<scenario>/converge].
     #[arg(long)]
@@ -268,18 +285,21 @@ pub struct ConvergeArgs {
 
 #[derive(Debug, Args)]
 pub struct PlotArgs {
-    /// CSV files (energy.csv, orientation.csv, convergence.csv, compare.csv, ...).
+    /// CSV files: energy.csv, orientation.csv (run); compare.csv (compare); convergence.csv, orders.csv, reference.csv (converge); stress.csv, stress_runs.csv (stress).
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
     /// Output figure, .png or .svg [default: next to the first file].
     #[arg(short = 'o', long = "output")]
     pub output: Option<PathBuf>,
-    /// Column to plot [default: energy_error_pct, err_rad or alpha_rad, whichever exists].
+    /// Column to plot [default: the first with data of energy_error_pct, err_rad, alpha_rad, energy_error_full_max_pct, max_error, order, richardson_alpha_rad, largest_stable_factor, ax].
     #[arg(long)]
     pub column: Option<String>,
-    /// Column on the x axis [default: t, else dt].
+    /// Column on the x axis [default: the first of t, dt, factor, wall_s, nominal_order, recommended_dt].
     #[arg(long)]
     pub x: Option<String>,
+    /// Plot an energy error with its sign, (E - E0)/|E0| (energy_error_pct, energy_error_full_pct of energy.csv); the files hold |E - E0|/|E0|.
+    #[arg(long)]
+    pub signed: bool,
     /// Force a logarithmic y axis. Without it an axis is logarithmic when its positive values span >= 2 decades and are spread over them; axes show units for known columns.
     #[arg(long = "log-y")]
     pub log_y: bool,
@@ -293,7 +313,7 @@ pub struct CheckArgs {
     /// Scenario TOML file.
     pub scenario: PathBuf,
     /// Judge this time step instead of simulation.dt.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub dt: Option<f64>,
     /// Time collisions at this impact speed, m/s, instead of the per-body energy bound.
     #[arg(long)]
@@ -308,25 +328,25 @@ pub struct RunArgs {
     #[arg(long, value_enum)]
     pub rotator: Option<RotatorKind>,
     /// Time step, s (overrides simulation.dt).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub dt: Option<f64>,
     /// End time, s (overrides simulation.t_end).
-    #[arg(long = "t-end")]
+    #[arg(long = "t-end", allow_hyphen_values = true)]
     pub t_end: Option<f64>,
     /// Output folder [default: out/<scenario>/<rotator>].
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Write one output row every N steps [default: at most 2e4 rows; every row also carries the largest error since the previous row].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub every: Option<u64>,
     /// Stop when the full-budget energy error exceeds this many percent [default: guards.energy_error_pct, else 10].
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub max_energy_error: Option<f64>,
     /// Stop when a contact overlap exceeds this fraction of the diameter [default: guards.overlap_ratio, else 0.2].
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub max_overlap: Option<f64>,
     /// Write <out>/checkpoint.json every N steps (Ctrl-C always writes one).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub checkpoint_every: Option<u64>,
     /// Continue from a checkpoint (its scenario, dt, rotator and cadence; --t-end may extend the run; outputs go to the checkpoint's folder unless --out).
     #[arg(long, conflicts_with_all = ["scenario", "rotator", "dt", "every"])]

@@ -24,11 +24,16 @@ pub fn execute(cli: Cli) -> Result<()> {
             print(&CheckReport {
                 scene: &p.scene,
                 advice: &p.advice,
+                scene_warnings: &p.warnings,
             })
         }
         Command::Rotators(args) => match args.markdown {
             true => print(&rotator_markdown()),
             false => print(&rotator_table()),
+        },
+        Command::Keys(args) => match args.markdown {
+            true => print(&crate::scenario::keys::keys_markdown()),
+            false => print(&crate::scenario::keys::keys_text()),
         },
         Command::Compare(args) => {
             use crate::study::compare::{compare, print_report};
@@ -58,6 +63,7 @@ pub fn execute(cli: Cli) -> Result<()> {
                 x: args.x,
                 log_x: args.log_x,
                 log_y: args.log_y,
+                signed: args.signed,
             })?;
             println!("{}", out.display());
             Ok(())
@@ -121,7 +127,7 @@ fn print(text: &dyn std::fmt::Display) -> Result<()> {
 
 /// `fibresim run`: warnings, the resumed outputs, the run, and its summary.
 fn run(plan: plan::RunPlan) -> Result<()> {
-    for w in &plan.advice.warnings {
+    for w in plan.warnings.iter().chain(&plan.advice.warnings) {
         eprintln!("warning: {w}");
     }
     let out_dir = &plan.opts.out_dir;

@@ -40,6 +40,8 @@ pub struct RunPlan {
     pub advice: Advice,
     /// No progress bar, no summary on stdout.
     pub quiet: bool,
+    /// The scenario's warnings (values outside engineering practice).
+    pub warnings: Vec<String>,
 }
 
 /// `fibresim check`, checked.
@@ -48,6 +50,8 @@ pub struct CheckPlan {
     pub scene: Scene,
     /// Its advice.
     pub advice: Advice,
+    /// The scenario's warnings (values outside engineering practice).
+    pub warnings: Vec<String>,
 }
 
 /// A flag that must be a finite number > 0.
@@ -58,18 +62,18 @@ pub fn positive_flag(flag: &str, v: f64) -> Result<f64> {
         Err(Error::bad(
             "command line",
             flag,
-            format!("must be a finite number > 0, got {v}"),
+            format!("must be a finite number > 0, got {v}; give a positive value"),
         ))
     }
 }
 
 /// The scene of `run`: the file (or the built-in default) with the flags'
 /// overrides, and the stem that names its default output folder.
-fn run_scene(args: &RunArgs) -> Result<(Scene, String)> {
-    let (mut scene, stem) = match &args.scenario {
-        Some(p) => (scenario::load(p)?, stem(p)),
+fn run_scene(args: &RunArgs) -> Result<(Scene, String, Vec<String>)> {
+    let ((mut scene, warnings), stem) = match &args.scenario {
+        Some(p) => (scenario::load_with_warnings(p)?, stem(p)),
         None => (
-            scenario::parse_str(DEFAULT_SCENE.1, DEFAULT_SCENE.0)?,
+            scenario::parse_with_warnings(DEFAULT_SCENE.1, DEFAULT_SCENE.0)?,
             "default".to_string(),
         ),
     };
@@ -90,7 +94,7 @@ fn run_scene(args: &RunArgs) -> Result<(Scene, String)> {
     if let Some(v) = args.max_overlap {
         scene.guards.overlap_ratio = positive_flag("--max-overlap", v)?;
     }
-    Ok((scene, stem))
+    Ok((scene, stem, warnings))
 }
 
 fn stem(p: &Path) -> String {
@@ -103,10 +107,11 @@ impl RunArgs {
     /// time-step advice's hard limit.
     pub fn plan(self) -> Result<RunPlan> {
         let checkpoint = self.resume.as_deref().map(Checkpoint::read).transpose()?;
-        let (scene, stem) = match &checkpoint {
+        let (scene, stem, warnings) = match &checkpoint {
             Some(c) => (
                 crate::run::scene_from_checkpoint(c, self.t_end)?,
                 "resumed".to_string(),
+                vec![],
             ),
             None => run_scene(&self)?,
         };
@@ -166,6 +171,7 @@ impl RunArgs {
             scene,
             advice,
             quiet: self.quiet,
+            warnings,
         })
     }
 }
@@ -173,7 +179,7 @@ impl RunArgs {
 impl CheckArgs {
     /// Load the scene and judge `--dt` instead of its own.
     pub fn plan(self) -> Result<CheckPlan> {
-        let mut scene = scenario::load(&self.scenario)?;
+        let (mut scene, warnings) = scenario::load_with_warnings(&self.scenario)?;
         if let Some(dt) = self.dt {
             let s = &scene.sim;
             scene.sim =
@@ -184,22 +190,32 @@ impl CheckArgs {
             .map(|v| positive_flag("--impact-speed", v))
             .transpose()?;
         let advice = advise_with(&scene, impact);
-        Ok(CheckPlan { scene, advice })
+        Ok(CheckPlan {
+            scene,
+            advice,
+            warnings,
+        })
     }
 }
 
 /// A study's scene and its default output folder `out/<stem>/<sub>`.
 fn study_scene(path: &Path, sub: &str) -> Result<(Scene, PathBuf)> {
-    Ok((
-        scenario::load(path)?,
-        PathBuf::from("out").join(stem(path)).join(sub),
-    ))
+    let (scene, warnings) = scenario::load_with_warnings(path)?;
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok((scene, PathBuf::from("out").join(stem(path)).join(sub)))
 }
 
 impl CompareArgs {
     /// The scene and the study's options.
     pub fn plan(self) -> Result<(Scene, CompareOptions)> {
         let (scene, default_out) = study_scene(&self.scenario, "compare")?;
+        for (flag, v) in [("--dt", self.dt), ("--t-end", self.t_end)] {
+            if let Some(v) = v {
+                positive_flag(flag, v)?;
+            }
+        }
         let opts = CompareOptions {
             rotators: crate::study::parse_rotators(Some(&self.rotators))?,
             dt: self.dt,
@@ -215,6 +231,16 @@ impl ConvergeArgs {
     /// The scene and the study's options.
     pub fn plan(self) -> Result<(Scene, ConvergeOptions)> {
         let (scene, default_out) = study_scene(&self.scenario, "converge")?;
+        for (flag, v) in [
+            ("--dt-max", self.dt_max),
+            ("--dt-min", self.dt_min),
+            ("--t-end", self.t_end),
+            ("--ref-factor", Some(self.ref_factor)),
+        ] {
+            if let Some(v) = v {
+                positive_flag(flag, v)?;
+            }
+        }
         let opts = ConvergeOptions {
             rotators: crate::study::parse_rotators(Some(&self.rotators))?,
             dt_max: self.dt_max,
@@ -237,14 +263,13 @@ impl StressArgs {
             .split(',')
             .map(str::trim)
             .filter(|s| !s.is_empty())
-            .map(|s| {
-                s.parse::<f64>().map_err(|_| {
-                    Error::bad(
-                        "command line",
-                        "--factors",
-                        format!("{s:?} is not a number; give e.g. 0.25,1,4,16"),
-                    )
-                })
+            .map(|s| match s.parse::<f64>() {
+                Ok(f) if f.is_finite() && f > 0.0 => Ok(f),
+                _ => Err(Error::bad(
+                    "command line",
+                    "--factors",
+                    format!("{s:?} is not a number > 0; give e.g. 0.25,1,4,16"),
+                )),
             })
             .collect::<Result<Vec<_>>>()?;
         let opts = StressOptions {

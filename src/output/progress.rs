@@ -1,14 +1,21 @@
 //! The progress bar of a run, drawn on stderr (never when it is not a
-//! terminal: scripts and CI see nothing).
+//! terminal: scripts and CI see nothing): the step, the simulated time,
+//! the elapsed time, the rate in steps and body-steps per second, and the
+//! time left. The rate counts only the steps of this invocation, so after
+//! `--resume` the bar starts at the checkpoint's step and its ETA is right.
 
 use crate::error::Result;
+use crate::output::Checkpoint;
 use crate::run::observer::{Observer, RunEnd, View};
 use std::io::IsTerminal;
+use std::time::Instant;
 
 /// Moves a bar to the current step about 1000 times per run.
 pub struct Progress {
     bar: indicatif::ProgressBar,
     tick: u64,
+    /// The step this invocation started from, and when.
+    first: Option<(u64, Instant)>,
 }
 
 impl Progress {
@@ -19,10 +26,8 @@ impl Progress {
         }
         let bar = indicatif::ProgressBar::new(steps);
         bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{bar:40} {percent:>3}% step {pos}/{len} eta {eta}",
-            )
-            .expect("static template"),
+            indicatif::ProgressStyle::with_template("{bar:30} {percent:>3}% {msg}")
+                .expect("static template"),
         );
         Some(Self::on(bar, steps))
     }
@@ -34,7 +39,61 @@ impl Progress {
         Progress {
             bar,
             tick: (steps / 1000).max(1),
+            first: None,
         }
+    }
+}
+
+/// `h:mm:ss`.
+fn clock(seconds: f64) -> String {
+    if !seconds.is_finite() {
+        return "–".into();
+    }
+    let s = seconds.max(0.0).round() as u64;
+    format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
+}
+
+/// The bar's text at `step` of `steps`, `elapsed` seconds after this
+/// invocation started at `first_step`, for `bodies` bodies stepped by `dt`.
+pub fn status(
+    first_step: u64,
+    step: u64,
+    steps: u64,
+    elapsed: f64,
+    dt: f64,
+    bodies: usize,
+) -> String {
+    let done = step.saturating_sub(first_step) as f64;
+    let rate = if elapsed > 0.0 && done > 0.0 {
+        done / elapsed
+    } else {
+        f64::NAN
+    };
+    let eta = steps.saturating_sub(step) as f64 / rate;
+    let (t, t_end) = (step as f64 * dt, steps as f64 * dt);
+    format!(
+        "step {step}/{steps}  t = {}/{} s  elapsed {}  {} steps/s  {} body-steps/s  eta {}",
+        sig(t),
+        sig(t_end),
+        clock(elapsed),
+        sig(rate),
+        sig(rate * bodies as f64),
+        if rate.is_finite() {
+            clock(eta)
+        } else {
+            "–".into()
+        }
+    )
+}
+
+/// Three significant digits: `0.574`, `1.79e6`; `–` for NaN.
+fn sig(x: f64) -> String {
+    if !x.is_finite() {
+        "–".into()
+    } else if x == 0.0 || (1e-3..1e4).contains(&x.abs()) {
+        format!("{}", format!("{x:.3e}").parse::<f64>().unwrap_or(x))
+    } else {
+        format!("{x:.2e}")
     }
 }
 
@@ -43,13 +102,69 @@ impl Observer for Progress {
         Some(self.tick)
     }
 
+    fn start(&mut self, _v: &View) -> Result<()> {
+        self.first = Some((0, Instant::now()));
+        Ok(())
+    }
+
+    fn resume(&mut self, c: &Checkpoint) -> Result<()> {
+        // The bar starts at the checkpoint's step; the rate counts from here.
+        self.first = Some((c.step, Instant::now()));
+        self.bar.set_position(c.step);
+        Ok(())
+    }
+
     fn row(&mut self, v: &View) -> Result<()> {
-        self.bar.set_position(v.world.step);
+        let w = v.world;
+        let (first, at) = *self.first.get_or_insert((w.step, Instant::now()));
+        self.bar.set_position(w.step);
+        self.bar.set_message(status(
+            first,
+            w.step,
+            w.scene.sim.steps(),
+            at.elapsed().as_secs_f64(),
+            w.scene.sim.dt(),
+            w.scene.bodies.len(),
+        ));
         Ok(())
     }
 
     fn finish(&mut self, _v: &View, _end: &RunEnd) -> Result<()> {
         self.bar.finish_and_clear();
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::status;
+
+    /// After a resume at 92 %, the rate and the ETA count only this
+    /// invocation's steps: 10 steps in 1 s leave 70 steps, 7 s.
+    #[test]
+    fn eta_after_a_resume_counts_from_the_checkpoint() {
+        let s = status(920, 930, 1000, 1.0, 1e-3, 9);
+        assert!(s.contains("step 930/1000"), "{s}");
+        assert!(s.contains("t = 0.93/1 s"), "{s}");
+        assert!(s.contains("elapsed 0:00:01"), "{s}");
+        assert!(s.contains(" 10 steps/s"), "{s}");
+        assert!(s.contains(" 90 body-steps/s"), "{s}");
+        assert!(s.ends_with("eta 0:00:07"), "{s}");
+    }
+
+    /// A long run: rates in scientific notation, the ETA in h:mm:ss; no rate
+    /// before the first step.
+    #[test]
+    fn long_runs_and_the_first_row() {
+        let s = status(0, 5_740_000, 20_000_000, 3.0, 1e-7, 9);
+        assert!(s.contains("t = 0.574/2 s"), "{s}");
+        assert!(s.contains("1.91e6 steps/s"), "{s}");
+        assert!(s.contains("1.72e7 body-steps/s"), "{s}");
+        assert!(s.ends_with("eta 0:00:07"), "{s}");
+        let first = status(0, 0, 100, 0.0, 1e-3, 1);
+        assert!(
+            first.contains("– steps/s") && first.ends_with("eta –"),
+            "{first}"
+        );
     }
 }

@@ -2,6 +2,7 @@
 
 use crate::error::{Error, Result};
 use crate::math::wxyz;
+use crate::output::Checkpoint;
 use crate::run::observer::{Observer, RunEnd, View};
 use crate::stop::Diagnosis;
 use serde::Serialize;
@@ -41,8 +42,12 @@ pub struct Summary {
     pub every: u64,
     /// Number of bodies.
     pub bodies: usize,
-    /// Wall time of the stepping loop including output, s.
+    /// Wall time of the stepping loop including output, s: this invocation
+    /// only (after `--resume`, the resumed part).
     pub wall_s: f64,
+    /// Wall time of every part of the run: before the checkpoint(s) resumed
+    /// from, plus `wall_s`, s.
+    pub wall_total_s: f64,
     /// `wall_s` per body and step, ns.
     pub ns_per_body_step: f64,
     /// Largest Eq. 65 error over every step, % (`null` when E₀ = 0).
@@ -84,8 +89,9 @@ pub fn finite(x: f64) -> Option<f64> {
 }
 
 impl Summary {
-    /// The summary of the run `v` ended as `end`, with rows every `every` steps.
-    pub fn of(v: &View, end: &RunEnd, every: u64) -> Self {
+    /// The summary of the run `v` ended as `end`, with rows every `every`
+    /// steps, after `wall_before_s` of earlier parts (0 for a new run).
+    pub fn of(v: &View, end: &RunEnd, every: u64, wall_before_s: f64) -> Self {
         let (world, stats) = (v.world, v.stats);
         let scene = world.scene;
         let sim = &scene.sim;
@@ -114,6 +120,7 @@ impl Summary {
             every,
             bodies: scene.bodies.len(),
             wall_s: end.wall_s,
+            wall_total_s: wall_before_s + end.wall_s,
             ns_per_body_step: end.wall_s * 1e9 / body_steps,
             energy_error_max_pct: finite(stats.max_error).filter(|_| stats.last_error.is_finite()),
             energy_error_final_pct: finite(stats.last_error),
@@ -154,9 +161,16 @@ pub struct SummaryJson {
     path: PathBuf,
     every: u64,
     settle: Option<crate::run::Settle>,
+    /// Wall time of the parts before the checkpoint resumed from, s.
+    wall_before_s: f64,
+    /// When this invocation started.
+    started: std::time::Instant,
     /// The summary, once the run has ended.
     pub summary: Option<Summary>,
 }
+
+/// Its name in checkpoints.
+const NAME: &str = "summary.json";
 
 impl SummaryJson {
     /// `summary.json` in `dir`, for a run with rows every `every` steps.
@@ -165,6 +179,8 @@ impl SummaryJson {
             path: dir.join("summary.json"),
             every,
             settle: None,
+            wall_before_s: 0.0,
+            started: std::time::Instant::now(),
             summary: None,
         }
     }
@@ -177,8 +193,30 @@ impl SummaryJson {
 }
 
 impl Observer for SummaryJson {
+    fn start(&mut self, _v: &View) -> Result<()> {
+        self.started = std::time::Instant::now();
+        Ok(())
+    }
+
+    fn checkpoint(&mut self, c: &mut Checkpoint) -> Result<()> {
+        let total = self.wall_before_s + self.started.elapsed().as_secs_f64();
+        c.observers
+            .insert(NAME.into(), vec![super::checkpoint::bits(total)]);
+        Ok(())
+    }
+
+    fn resume(&mut self, c: &Checkpoint) -> Result<()> {
+        self.started = std::time::Instant::now();
+        // Checkpoints written before wall_total_s existed carry no time:
+        // their earlier parts count as 0 s.
+        if c.observers.contains_key(NAME) {
+            self.wall_before_s = c.observer_state(NAME)?.first().copied().unwrap_or(0.0);
+        }
+        Ok(())
+    }
+
     fn finish(&mut self, v: &View, end: &RunEnd) -> Result<()> {
-        let mut s = Summary::of(v, end, self.every);
+        let mut s = Summary::of(v, end, self.every, self.wall_before_s);
         s.settled = self.settle.map(|t| t.reached(v.world));
         s.write(&self.path)?;
         self.summary = Some(s);

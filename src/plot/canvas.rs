@@ -95,8 +95,15 @@ pub(super) trait Figure {
         Ok(())
     }
 
-    /// Draw the whole figure on `root` (which covers [`Figure::size`]).
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String>;
+    /// Draw the whole figure on `root` (which covers [`Figure::size`]);
+    /// `raster` is true for PNG (plotters' bitmap backend draws lines wider
+    /// than 1 px as one polygon per line, which spiky data turns inside out:
+    /// plotters issue #549).
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        raster: bool,
+    ) -> Result<(), String>;
 }
 
 enum Format {
@@ -139,7 +146,7 @@ pub(super) fn render_figure<F: Figure>(figure: &F, path: &Path) -> Result<(), Pl
     match format {
         Format::Svg => {
             let mut svg = String::new();
-            paint(SVGBackend::with_string(&mut svg, (w, h)), figure).map_err(draw_err)?;
+            paint(SVGBackend::with_string(&mut svg, (w, h)), figure, false).map_err(draw_err)?;
             std::fs::write(path, svg).map_err(|source| PlotError::Io {
                 path: path.to_path_buf(),
                 source,
@@ -147,16 +154,20 @@ pub(super) fn render_figure<F: Figure>(figure: &F, path: &Path) -> Result<(), Pl
         }
         Format::Png => {
             let mut rgb = vec![0u8; w as usize * h as usize * 3];
-            paint(BitMapBackend::with_buffer(&mut rgb, (w, h)), figure).map_err(draw_err)?;
+            paint(BitMapBackend::with_buffer(&mut rgb, (w, h)), figure, true).map_err(draw_err)?;
             write_png(path, &rgb, w, h)
         }
     }
 }
 
 /// The one drawing path of every format.
-fn paint<DB: DrawingBackend, F: Figure>(backend: DB, figure: &F) -> Result<(), String> {
+fn paint<DB: DrawingBackend, F: Figure>(
+    backend: DB,
+    figure: &F,
+    raster: bool,
+) -> Result<(), String> {
     let root = backend.into_drawing_area();
-    figure.draw(&root)?;
+    figure.draw(&root, raster)?;
     root.present().map_err(err)
 }
 

@@ -17,6 +17,9 @@ pub(crate) struct MapPanel {
     pub(crate) x_ticks: Vec<String>,
     /// Row labels, top to bottom.
     pub(crate) rows: Vec<String>,
+    /// Each row's palette slot (colour and marker shape, drawn beside its
+    /// label, as the row's series look in the line figures), if it has one.
+    pub(crate) row_slots: Vec<Option<usize>>,
     /// `cells[row][col]`: class index into [`CellMap::classes`] and a short
     /// text drawn in the cell; `None` = not run (left blank).
     pub(crate) cells: Vec<Vec<Option<(usize, String)>>>,
@@ -91,7 +94,11 @@ impl Figure for CellMap {
         (w, MAP_HEADER_H + legend + rows * ph + MAP_MARGIN)
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        _raster: bool,
+    ) -> Result<(), String> {
         root.fill(&WHITE).map_err(err)?;
         let (w, _) = self.size();
         let centre = |size: u32, color: RGBColor| {
@@ -159,6 +166,15 @@ impl Figure for CellMap {
             .map_err(err)?;
             for (r, name) in p.rows.iter().enumerate() {
                 let y = gy + r as u32 * MAP_CELL_H;
+                if let Some(slot) = p.row_slots.get(r).copied().flatten() {
+                    let c = super::marks::slot_colour(slot);
+                    let style = RGBColor(c[0], c[1], c[2]).stroke_width(2);
+                    let at = (px(x0) + 10, px(y + MAP_CELL_H / 2));
+                    for path in super::marks::marker_paths(slot) {
+                        root.draw(&(EmptyElement::at(at) + PathElement::new(path, style)))
+                            .map_err(err)?;
+                    }
+                }
                 root.draw(&Text::new(
                     name.as_str(),
                     (px(gx - 8), px(y + MAP_CELL_H / 2)),

@@ -26,10 +26,11 @@ pub enum Style {
     Guide,
 }
 
-/// Where the legend goes. `Auto` picks the plot corner that covers the least data.
+/// Where the legend goes. `Auto` picks a plot corner that covers no data,
+/// else puts the legend outside the plot, on its right.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum LegendPos {
-    /// The corner that covers the least data.
+    /// A corner that covers no data, else outside the plot on the right.
     #[default]
     Auto,
     /// Upper left corner of the plot.
@@ -40,6 +41,8 @@ pub enum LegendPos {
     LowerLeft,
     /// Lower right corner of the plot.
     LowerRight,
+    /// Outside the plot, on its right.
+    Outside,
     /// No legend.
     Hidden,
 }
@@ -55,6 +58,10 @@ pub struct Series {
     pub y: Vec<f64>,
     /// How the series is drawn.
     pub style: Style,
+    /// Its palette slot (colour and marker shape), e.g. a rotator's place
+    /// in the rotator list, so one rotator looks the same in every figure;
+    /// `None`: the next slot in series order.
+    pub slot: Option<usize>,
 }
 
 impl Series {
@@ -65,13 +72,24 @@ impl Series {
             x,
             y,
             style,
+            slot: None,
+        }
+    }
+
+    /// The same series in palette slot `slot`.
+    pub fn in_slot(self, slot: usize) -> Self {
+        Series {
+            slot: Some(slot),
+            ..self
         }
     }
 }
 
 /// A 2-D chart. Axis labels should include units, e.g. `"time step Δt (s)"`.
-/// Colours are assigned in series order from a fixed palette (guides and
-/// published values take no palette slot).
+/// Colours are assigned in series order from a fixed palette, or by each
+/// series' own `slot` (guides and published values take no palette slot).
+/// A series that coincides with an earlier one (within a pixel) is drawn
+/// dashed over it and its legend entry says `(= earlier)`.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Chart {
     /// Caption above the plot; empty for none.

@@ -2,22 +2,36 @@
 
 use plotters::style::RGBColor;
 
-/// Okabe–Ito colour-blind-friendly palette; yellow last (weak on white).
-pub(super) const PALETTE: [RGBColor; 8] = [
+/// Okabe–Ito colour-blind-friendly palette, with brown and wine added so
+/// that ten series (every rotator) get their own colour; yellow last (weak
+/// on white).
+pub(super) const PALETTE: [RGBColor; 10] = [
     RGBColor(0x00, 0x72, 0xB2), // blue
     RGBColor(0xD5, 0x5E, 0x00), // vermillion
     RGBColor(0x00, 0x9E, 0x73), // bluish green
     RGBColor(0xCC, 0x79, 0xA7), // reddish purple
     RGBColor(0xE6, 0x9F, 0x00), // orange
     RGBColor(0x56, 0xB4, 0xE9), // sky blue
+    RGBColor(0x8C, 0x56, 0x4B), // brown
     RGBColor(0x00, 0x00, 0x00), // black
+    RGBColor(0x88, 0x22, 0x55), // wine
     RGBColor(0xF0, 0xE4, 0x42), // yellow
 ];
+
+/// The RGB colour of palette slot `slot` (cycled).
+pub fn slot_colour(slot: usize) -> [u8; 3] {
+    let c = PALETTE[slot % PALETTE.len()];
+    [c.0, c.1, c.2]
+}
 
 /// Dash length and gap (pixels) of the k-th slope guide of a chart, cycled.
 pub const GUIDE_DASHES: [(u32, u32); 3] = [(10, 6), (2, 5), (22, 6)];
 /// Dash length and gap of [`Style::Dashed`](super::Style::Dashed).
 pub(super) const DASH: (u32, u32) = (10, 6);
+/// Dash patterns of lines drawn over an identical earlier line: the first,
+/// second, third such line over the same one (their dashes fall in
+/// different places, so each shows).
+pub(super) const TWIN_DASHES: [(u32, u32); 3] = [(10, 6), (4, 12), (16, 10)];
 
 /// Horizontal dash segments `[start, end)` covering `0..len` px with `dash`.
 pub(super) fn dash_segments(len: i32, dash: (u32, u32)) -> Vec<(i32, i32)> {

@@ -23,7 +23,7 @@ use std::path::Path;
 pub use canvas::PlotError;
 pub(crate) use cellmap::{CellMap, MapPanel};
 pub use chart::{reference_slope, Chart, LegendPos, Series, Style};
-pub use marks::{GUIDE_DASHES, MARKER_SHAPES};
+pub use marks::{slot_colour, GUIDE_DASHES, MARKER_SHAPES};
 
 /// Width of rendered charts, in pixels.
 pub const WIDTH: u32 = 1000;

@@ -1,7 +1,7 @@
 //! One `[[body]]` table into a body, its initial state and its prescribed
 //! torque; the scene's material table.
 
-use super::check::Ctx;
+use super::check::{self, Ctx};
 use super::file::{BodySection, ScenarioFile, ShapeName};
 use crate::body::{Body, BodyState, Material, MaterialId, RotState, Shape};
 use crate::error::Result;
@@ -59,19 +59,11 @@ pub(super) fn build_body(
             return Err(cx.err(&key("length"), "a fibre needs `length` (m)"))
         }
         (ShapeName::Sphere, None) => Shape::Sphere { diameter },
-        (ShapeName::Sphere, Some(_)) => {
-            return Err(cx.err(
-                &key("length"),
-                "a sphere has no `length`; remove it or use shape = \"fibre\"",
-            ))
-        }
+        (ShapeName::Sphere, Some(_)) => return Err(cx.err(&key("length"), check::SPHERE_LENGTH)),
         (ShapeName::Rigid, _) => unreachable!("built above"),
     };
     if needs_contacts && matches!(shape, Shape::Sphere { .. }) {
-        return Err(cx.err(
-            &key("shape"),
-            "spheres are supported only in contact-free scenes (one body, no [box]); use fibres",
-        ));
+        return Err(cx.err(&key("shape"), check::SPHERE_CONTACTS));
     }
 
     // Material: a named table or inline values, not both. Messages name
@@ -83,17 +75,11 @@ pub(super) fn build_body(
     let (density, young, poisson) = match &b.material {
         Some(m) => {
             if b.density.is_some() || b.young.is_some() || b.poisson.is_some() {
-                return Err(cx.err(
-                    &key("material"),
-                    "give either `material` or inline density/young/poisson, not both",
-                ));
+                return Err(cx.err(&key("material"), check::MATERIAL_AND_INLINE));
             }
             let mat = raw.material.get(m).ok_or_else(|| {
-                let known: Vec<&String> = raw.material.keys().collect();
-                cx.err(
-                    &key("material"),
-                    format!("unknown material `{m}`; defined: {known:?}"),
-                )
+                let known: Vec<&str> = raw.material.keys().map(String::as_str).collect();
+                cx.err(&key("material"), check::unknown_material(m, &known))
             })?;
             (mat.density, mat.young, mat.poisson)
         }
@@ -224,24 +210,18 @@ fn kinematics(
 ) -> Result<(DQuat, DVec3, DVec3, DVec3)> {
     let key = |k: &str| format!("body[{i}].{k}");
     let q = match (b.axis, b.quaternion) {
-        (Some(_), Some(_)) => {
-            return Err(cx.err(&key("axis"), "give either `axis` or `quaternion`, not both"))
-        }
+        (Some(_), Some(_)) => return Err(cx.err(&key("axis"), check::AXIS_AND_QUATERNION)),
         (Some(a), None) => {
             let a = cx.finite3(&key("axis"), a)?;
             if a.length() < 1e-12 {
-                return Err(cx.err(&key("axis"), "the axis direction must be non-zero"));
+                return Err(cx.err(&key("axis"), check::ZERO_AXIS));
             }
-            DQuat::from_rotation_arc(DVec3::X, a.normalize())
+            super::axis::rotation_from_x(a.normalize())
         }
         (None, Some(c)) => {
             let q = crate::math::quat_wxyz(c);
-            let n = q.length();
-            if !n.is_finite() || (n - 1.0).abs() > 1e-6 {
-                return Err(cx.err(
-                    &key("quaternion"),
-                    format!("must be a unit quaternion [w, x, y, z] (norm {n}); normalise it"),
-                ));
+            if let Some(m) = check::not_unit_quaternion(q.length()) {
+                return Err(cx.err(&key("quaternion"), m));
             }
             // Only input rounding (< 1e-6) is removed here.
             q.normalize()

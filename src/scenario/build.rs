@@ -4,7 +4,7 @@
 //! contact search for a single body without walls (docs/physics.md §7).
 
 use super::bodies::{aabb, build_body, Materials};
-use super::check::Ctx;
+use super::check::{self, Ctx};
 use super::file::ScenarioFile;
 use super::reference::build_reference;
 use super::scene::{Prescribed, Scene, Walls};
@@ -15,6 +15,13 @@ use std::path::Path;
 
 /// Read and validate a scenario file.
 pub fn load(path: &Path) -> Result<Scene> {
+    load_with_warnings(path).map(|(scene, _)| scene)
+}
+
+/// [`load`], with the pre-check's warnings (values outside the range of
+/// engineering practice, each naming the file, line, key and the unit it
+/// may have been meant in) for the caller to print.
+pub fn load_with_warnings(path: &Path) -> Result<(Scene, Vec<String>)> {
     let file = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| {
         Error::bad(
@@ -23,11 +30,19 @@ pub fn load(path: &Path) -> Result<Scene> {
             format!("cannot read the scenario file: {e}; give the path of a scenario TOML file (examples in scenarios/)"),
         )
     })?;
-    parse_str(&text, &file)
+    parse_with_warnings(&text, &file)
 }
 
 /// Parse and validate scenario text; `source` names it in error messages.
 pub fn parse_str(text: &str, source: &str) -> Result<Scene> {
+    parse_with_warnings(text, source).map(|(scene, _)| scene)
+}
+
+/// [`parse_str`], with the pre-check's warnings (see [`load_with_warnings`]).
+pub fn parse_with_warnings(text: &str, source: &str) -> Result<(Scene, Vec<String>)> {
+    // Every problem the key table can judge, in one message, before serde
+    // (which stops at the first).
+    let warnings = super::precheck::precheck(text, source)?;
     let raw: ScenarioFile = toml::from_str(text).map_err(|e| {
         // toml's message carries the line, column and offending key.
         let msg = e.to_string();
@@ -36,7 +51,7 @@ pub fn parse_str(text: &str, source: &str) -> Result<Scene> {
     })?;
     let mut scene = build(raw, source).map_err(|e| e.located(text))?;
     scene.text = text.to_string();
-    Ok(scene)
+    Ok((scene, warnings))
 }
 
 fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
@@ -44,16 +59,8 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
     let s = &raw.simulation;
     let rotator = match &s.rotator {
         None => RotatorKind::Pcdm,
-        Some(name) => RotatorKind::from_name(name).ok_or_else(|| {
-            let names: Vec<&str> = RotatorKind::ALL.iter().map(|k| k.name()).collect();
-            cx.err(
-                "simulation.rotator",
-                format!(
-                    "unknown rotator `{name}`; choose one of {}",
-                    names.join(", ")
-                ),
-            )
-        })?,
+        Some(name) => RotatorKind::from_name(name)
+            .ok_or_else(|| cx.err("simulation.rotator", check::unknown_rotator(name)))?,
     };
     let sim = SimParams::new(s.dt, s.t_end, rotator, s.every, src, "simulation.")?;
     let gravity = match raw.world.gravity {
@@ -82,10 +89,7 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
 
     let has_file = raw.bodies.is_some();
     if raw.body.is_empty() && !has_file {
-        return Err(cx.err(
-            "body",
-            "the scene has no bodies; add at least one [[body]] table or a [bodies] file",
-        ));
+        return Err(cx.err("body", check::NO_BODIES));
     }
     let needs_contacts = walls.is_some() || raw.body.len() > 1 || has_file;
     let mut bodies = Vec::with_capacity(raw.body.len());

@@ -1,20 +1,25 @@
-//! Scenario files: the raw TOML mirror ([`file`](mod@file)) and its validation, once,
-//! into a ready-to-run [`Scene`] ([`build`], with the checks of bodies,
-//! numerical parameters and references in their own files).
+//! Scenario files: the table of known keys ([`keys`]), a pre-check of the
+//! parsed document against it (every problem at once), the raw TOML mirror
+//! ([`file`](mod@file)) and its validation, once, into a ready-to-run
+//! [`Scene`] ([`build`], with the checks of bodies, numerical parameters and
+//! references in their own files).
 
+pub mod axis;
 mod bodies;
 pub mod body_file;
 pub mod build;
 pub(crate) mod check;
 pub mod file;
+pub mod keys;
 pub mod locate;
+mod precheck;
 pub mod reference;
 pub mod scene;
 pub mod sim;
 pub mod write;
 
 pub use bodies::{aabb, SPEED_OF_LIGHT};
-pub use build::{load, parse_str};
+pub use build::{load, load_with_warnings, parse_str, parse_with_warnings};
 pub use locate::locate;
 pub use reference::ClosedForm;
 pub use scene::{Prescribed, Scene, Walls};

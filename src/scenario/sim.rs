@@ -4,6 +4,17 @@ use super::check::Ctx;
 use crate::error::{Error, Result};
 use crate::integrate::rotate::RotatorKind;
 
+/// Largest relative distance of `t_end / dt` from a whole number that is
+/// taken as rounding of the inputs (their quotient is exact to ~1e-16).
+pub const WHOLE_STEPS_TOL: f64 = 1e-9;
+
+/// `x` to 12 significant digits, shortest form (`0.49999999999999994` → `0.5`).
+fn short(x: f64) -> String {
+    format!("{x:.11e}")
+        .parse::<f64>()
+        .map_or(x.to_string(), |v| v.to_string())
+}
+
 /// Numerical parameters of a run, checked: made only by [`SimParams::new`]
 /// or [`SimParams::with_steps`].
 #[derive(Debug, Clone, PartialEq)]
@@ -42,10 +53,17 @@ impl SimParams {
         }
         let ratio = t_end / dt;
         let steps = ratio.round();
-        if (ratio - steps).abs() > 1e-6 * ratio.max(1.0) {
+        // Only the rounding of the two decimals and of their quotient (a few
+        // ulp) is forgiven: a t_end between two steps is never silently moved.
+        if (ratio - steps).abs() > WHOLE_STEPS_TOL * ratio.max(1.0) {
+            let (lo, hi) = (ratio.floor().max(1.0), ratio.ceil().max(1.0));
             return Err(cx.err(
                 &key_t,
-                format!("t_end = {t_end:e} s is not a whole number of steps of dt = {dt:e} s ({ratio} steps); adjust one of them"),
+                format!(
+                    "t_end = {t_end:e} s is {ratio:.3} steps of dt = {dt:e} s, not a whole number; use t_end = {} s ({lo} steps) or {} s ({hi} steps), or change dt",
+                    short(lo * dt),
+                    short(hi * dt)
+                ),
             ));
         }
         if steps > 1e12 {
@@ -57,10 +75,7 @@ impl SimParams {
             ));
         }
         if every == Some(0) {
-            return Err(cx.err(
-                &format!("{prefix}every"),
-                "must be >= 1 (one output row per `every` steps)",
-            ));
+            return Err(cx.err(&format!("{prefix}every"), super::check::EVERY_ZERO));
         }
         Ok(SimParams {
             dt,

@@ -85,7 +85,9 @@ enum Metric {
 impl Metric {
     fn label(self) -> &'static str {
         match self {
-            Metric::Energy => "energy error, Eq. 65 with elastic energy (%)",
+            Metric::Energy => {
+                "largest |E − E₀|/|E₀| since the previous row, Eq. 65 with elastic energy (%)"
+            }
             Metric::ClosedForm => "angle to the closed form (rad)",
             Metric::Rk4Angle => "angle to rk4 at δt/10 (rad)",
         }
@@ -312,6 +314,7 @@ fn write_outputs(scene: &Scene, r: &CompareReport, opts: &CompareOptions, dt: f6
                 None => x.rotator.name().to_string(),
             };
             Series::new(label, x.t.clone(), x.err.clone(), Style::Line)
+                .in_slot(super::rotator_slot(x.rotator))
         })
         .collect();
     // Log y when the positive errors span more than two decades (Figs. 2–4).

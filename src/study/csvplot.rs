@@ -91,6 +91,9 @@ pub struct PlotOptions {
     pub log_x: bool,
     /// Force a logarithmic y axis.
     pub log_y: bool,
+    /// Plot an energy error with its sign, `(E − E₀)/|E₀|`, from the
+    /// energies (the files hold `|E − E₀|/|E₀|`).
+    pub signed: bool,
 }
 
 /// Unit of one of our columns, `None` when unknown.
@@ -115,9 +118,17 @@ fn meaning(name: &str) -> Option<&'static str> {
         "t" => "time",
         "dt" => "time step",
         "e_total" => "Eq. 64 energy",
-        "energy_error_pct" | "energy_error_window_max_pct" => "Eq. 65, no elastic energy",
-        "energy_error_max_pct" | "energy_error_final_pct" => "Eq. 65, no elastic energy",
-        n if n.starts_with("energy_error_full") => "Eq. 65 with elastic energy",
+        "energy_error_pct" => "|E − E₀|/|E₀|, Eq. 65, no elastic energy",
+        "energy_error_window_max_pct" => {
+            "largest |E − E₀|/|E₀| since the previous row, Eq. 65, no elastic energy"
+        }
+        "energy_error_max_pct" | "energy_error_final_pct" => {
+            "|E − E₀|/|E₀|, Eq. 65, no elastic energy"
+        }
+        "energy_error_full_window_max_pct" => {
+            "largest |E − E₀|/|E₀| since the previous row, Eq. 65 with elastic energy"
+        }
+        n if n.starts_with("energy_error_full") => "|E − E₀|/|E₀|, Eq. 65 with elastic energy",
         "err_rad" | "geodesic_rad" => "geodesic angle to the reference",
         "alpha_rad" => "Eq. 67",
         "x_error_pct" => "Table 2 x-error",
@@ -169,18 +180,89 @@ pub fn wants_log(values: &[f64]) -> bool {
     (top as f64) < 0.75 * pos.len() as f64
 }
 
-/// Default y column: the Eq. 65 error for energy files, the reference angle
-/// error for orientation files, the Eq. 67 error for convergence tables.
-fn default_column(t: &Table) -> Option<&'static str> {
-    [
-        "energy_error_pct",
-        "err_rad",
-        "alpha_rad",
-        "energy_error_max_pct",
-        "max_error",
-    ]
-    .into_iter()
-    .find(|c| t.index(c).is_some())
+/// Default y column: the first of these with a finite value (the Eq. 65
+/// error for energy files, the reference angle for orientation files, the
+/// Eq. 67 error for convergence tables, the errors of compare and stress
+/// tables, the orders; the axis for orientation files without a reference,
+/// the energy for energy files whose Eq. 65 is undefined, E₀ = 0).
+const DEFAULT_Y: &[&str] = &[
+    "energy_error_pct",
+    "err_rad",
+    "alpha_rad",
+    "energy_error_full_max_pct",
+    "max_error",
+    "order",
+    "richardson_alpha_rad",
+    "largest_stable_factor",
+    "ax",
+    "e_total",
+];
+
+/// Default x column: the first of these the file has with data (time; time step;
+/// the stress factor; run time, for compare tables; the nominal order, for
+/// orders tables; the recommended δt, for the stress summary).
+const DEFAULT_X: &[&str] = &[
+    "t",
+    "dt",
+    "factor",
+    "wall_s",
+    "nominal_order",
+    "recommended_dt",
+];
+
+/// The first of `names` that `t` has with a finite value in some row.
+fn first_with_data(t: &Table, names: &[&str]) -> Option<usize> {
+    names
+        .iter()
+        .filter_map(|c| t.index(c))
+        .find(|&i| t.numbers(i).iter().any(|v| v.is_finite()))
+}
+
+/// The default column of `t` for `flag`: the first of `names` with data,
+/// else the first present; else bad input listing the columns.
+fn default_of(t: &Table, names: &[&str], flag: &str) -> Result<usize> {
+    first_with_data(t, names)
+        .or_else(|| {
+            (flag == "--x")
+                .then(|| names.iter().find_map(|c| t.index(c)))
+                .flatten()
+        })
+        .ok_or_else(|| {
+            Error::bad(
+                t.path.display().to_string(),
+                flag,
+                format!(
+                    "no default column in this file; choose one with {flag} from: {}",
+                    t.header.join(", ")
+                ),
+            )
+        })
+}
+
+/// The signed energy error `(E − E₀)/|E₀| · 100` of an energy file, for
+/// column `name` (`energy_error_pct`: Eq. 64's energy; `energy_error_full_pct`:
+/// with the elastic energy).
+fn signed_error(t: &Table, name: &str) -> Result<Vec<f64>> {
+    let parts: &[&str] = match name {
+        "energy_error_pct" => &["e_total"],
+        "energy_error_full_pct" => &["e_total", "e_elastic"],
+        other => {
+            return Err(Error::bad(
+                t.path.display().to_string(),
+                "--signed",
+                format!("{other} has no sign to show; --signed plots energy_error_pct or energy_error_full_pct of an energy.csv (the window maxima are maxima of |error|)"),
+            ))
+        }
+    };
+    let cols = parts
+        .iter()
+        .map(|p| t.require(p, "--signed").map(|i| t.numbers(i)))
+        .collect::<Result<Vec<_>>>()?;
+    let e: Vec<f64> = (0..t.rows.len())
+        .map(|r| cols.iter().map(|c| c[r]).sum())
+        .collect();
+    let e0 = e.first().copied().unwrap_or(f64::NAN);
+    Ok(e.iter().map(|x| (x - e0) / e0.abs() * 100.0).collect())
 }
 
 /// Plot and return the path written.
@@ -203,28 +285,33 @@ pub fn plot_files(opts: &PlotOptions) -> Result<PathBuf> {
         let t = Table::read(f)?;
         let yc = match &opts.column {
             Some(c) => t.require(c, "--column")?,
-            None => {
-                let c = default_column(&t).ok_or_else(|| {
-                    Error::bad(
-                        f.display().to_string(),
-                        "--column",
-                        format!(
-                            "no default column in this file; choose one with --column from: {}",
-                            t.header.join(", ")
-                        ),
-                    )
-                })?;
-                t.require(c, "--column")?
-            }
+            None => default_of(&t, DEFAULT_Y, "--column")?,
         };
-        let default_x = if t.index("t").is_some() { "t" } else { "dt" };
-        let xc = t.require(opts.x.as_deref().unwrap_or(default_x), "--x")?;
+        let xc = match &opts.x {
+            Some(c) => t.require(c, "--x")?,
+            None => default_of(&t, DEFAULT_X, "--x")?,
+        };
         y_name = t.header[yc].clone();
         x_name = t.header[xc].clone();
-        y_label = column_label(&y_name, &t);
-        x_label = column_label(&x_name, &t);
         let xs = t.numbers(xc);
-        let ys = t.numbers(yc);
+        let ys = if opts.signed {
+            signed_error(&t, &y_name)?
+        } else {
+            t.numbers(yc)
+        };
+        y_label = if opts.signed {
+            format!(
+                "{y_name}, signed: (E − E₀)/|E₀|{} (%)",
+                if y_name.contains("full") {
+                    ", with elastic energy"
+                } else {
+                    ""
+                }
+            )
+        } else {
+            column_label(&y_name, &t)
+        };
+        x_label = column_label(&x_name, &t);
         let label = f
             .parent()
             .and_then(|p| p.file_name())
@@ -257,10 +344,32 @@ pub fn plot_files(opts: &PlotOptions) -> Result<PathBuf> {
             groups[g].2.push(ys[i]);
         }
         for (k, x, y) in groups {
-            chart.series.push(Series::new(k, x, y, Style::Line));
+            // Few points get markers (one per rotator, as in the study
+            // figures); points out of x order are not joined.
+            let sorted = x
+                .windows(2)
+                .all(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Less));
+            let style = match (sorted, x.len()) {
+                (false, _) => Style::Points,
+                (true, n) if n <= 50 => Style::LineMarkers,
+                _ => Style::Line,
+            };
+            let slot = super::slot_of_label(&k);
+            let s = Series::new(k, x, y, style);
+            chart.series.push(match slot {
+                Some(slot) => s.in_slot(slot),
+                None => s,
+            });
         }
     }
-    chart.title = format!("{y_name} vs {x_name}");
+    let view = if opts.signed {
+        " (signed: above 0 is a gain)"
+    } else if y_name.starts_with("energy_error") {
+        " (absolute: |E − E₀|/|E₀|)"
+    } else {
+        ""
+    };
+    chart.title = format!("{y_name} vs {x_name}{view}");
     chart.x_label = x_label;
     chart.y_label = y_label;
     let all = |pick: fn(&crate::plot::Series) -> &Vec<f64>| -> Vec<f64> {

@@ -9,6 +9,9 @@ pub mod csvplot;
 pub mod fit;
 pub mod order;
 pub mod stress;
+mod style;
+
+pub(crate) use style::{rotator_slot, slot_of_label};
 
 use crate::error::{Diagnosis, Error, Result};
 use crate::integrate::rotate::RotatorKind;
@@ -152,7 +155,7 @@ impl StepBar {
     /// The run has completed `step` steps.
     pub(crate) fn at(&self, step: u64) {
         if let Some(b) = &self.bar {
-            if step % self.every == 0 {
+            if step.is_multiple_of(self.every) {
                 b.set_position(step);
             }
         }
@@ -177,7 +180,7 @@ pub(crate) fn sample_orientations(
     let bar = progress.step_bar(label, s.sim.steps());
     let mut q: Vec<DQuat> = s.initial.iter().map(|b| b.rot.q).collect();
     let r = integrate_observed(s, |w| {
-        if w.step % every == 0 {
+        if w.step.is_multiple_of(every) {
             q.extend(w.states.iter().map(|b| b.rot.q));
         }
         bar.at(w.step);

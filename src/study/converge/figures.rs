@@ -47,6 +47,7 @@ pub(super) fn figures(scene: &Scene, r: &ConvergeReport, opts: &ConvergeOptions)
                     pts.iter().map(|p| f(p)).collect(),
                     Style::LineMarkers,
                 )
+                .in_slot(crate::study::rotator_slot(k))
             })
             .collect()
     };
@@ -115,7 +116,7 @@ pub(super) fn figures(scene: &Scene, r: &ConvergeReport, opts: &ConvergeOptions)
                 "{name}: full-budget energy error vs time step (T = {} s)",
                 short(r.t_end)
             ),
-            "max energy error, Eq. 65 with elastic energy (%)".into(),
+            "largest |E − E₀|/|E₀| over the run, Eq. 65 with elastic energy (%)".into(),
             |p: &Point| p.energy_full_max_pct,
             f64::NAN,
         )),

@@ -88,7 +88,7 @@ fn divisors(n: u64) -> Vec<u64> {
     let mut d = Vec::new();
     let mut i = 1;
     while i * i <= n {
-        if n % i == 0 {
+        if n.is_multiple_of(i) {
             d.push(i);
             if i * i != n {
                 d.push(n / i);

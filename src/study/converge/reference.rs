@@ -152,7 +152,7 @@ fn rk4(
     let nc = qc.len() / nb;
     for j in 1..nc {
         let fine_step = 2 * j as u64 * twin_every;
-        if fine_step % stride != 0 {
+        if !fine_step.is_multiple_of(stride) {
             continue;
         }
         let k = (fine_step / stride) as usize;

@@ -76,6 +76,11 @@ pub(super) fn stability_map(r: &StressReport, opts: &StressOptions) -> CellMap {
                     })
                     .collect(),
                 rows: opts.rotators.iter().map(|k| k.name().to_string()).collect(),
+                row_slots: opts
+                    .rotators
+                    .iter()
+                    .map(|&k| Some(crate::study::rotator_slot(k)))
+                    .collect(),
                 cells,
                 marks,
             }
