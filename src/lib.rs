@@ -33,6 +33,7 @@ pub mod integrate;
 pub mod math;
 pub mod output;
 pub mod plot;
+pub mod render;
 pub mod run;
 pub mod scenario;
 pub mod stop;

@@ -59,6 +59,7 @@ pub fn execute(cli: Cli) -> Result<()> {
             println!("{}", out.display());
             Ok(())
         }
+        Command::Render(args) => render(args.plan()?),
         Command::Stress(args) => {
             use crate::study::stress::{print_report, stress};
             let (cases, opts) = args.plan()?;
@@ -128,4 +129,18 @@ fn run(plan: plan::RunPlan) -> Result<()> {
         _ => {}
     }
     outcome.map(|_| ())
+}
+
+/// `fibresim render`: a still (PNG) or an animation (GIF).
+fn render(p: plan::RenderPlan) -> Result<()> {
+    use crate::render::{animate, still, Source};
+    let source = Source::open(&p.input, p.scenario.as_deref())?;
+    if p.gif {
+        let n = animate(&source, &p.opts, p.fps, &p.output)?;
+        println!("{} ({n} frames)", p.output.display());
+    } else {
+        let f = still(&source, p.step, &p.opts, &p.output)?;
+        println!("{} (step {}, t = {} s)", p.output.display(), f.step, f.t);
+    }
+    Ok(())
 }

@@ -48,6 +48,8 @@ pub struct Scene {
     pub reference: Option<ClosedForm>,
     /// Limits that stop a run early.
     pub guards: Guards,
+    /// Optional outputs (`[output]`, overridden by flags).
+    pub output: super::OutputRequest,
 }
 
 impl Scene {
