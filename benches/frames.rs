@@ -99,7 +99,11 @@ fn bench(c: &mut Criterion) {
         });
         g.bench_with_input(BenchmarkId::new("gif_frame", n), &n, |b, _| {
             let pm = draw_frame(&f, &opts);
-            let rgb: Vec<u8> = pm.data().chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
+            let rgb: Vec<u8> = pm
+                .data()
+                .chunks_exact(4)
+                .flat_map(|p| [p[0], p[1], p[2]])
+                .collect();
             b.iter(|| {
                 let gf = gif::Frame::from_rgb_speed(1000, 800, &rgb, 10);
                 let mut out = Vec::new();

@@ -78,9 +78,12 @@ fn run_scene(args: &RunArgs) -> Result<(Scene, String)> {
     let o = &mut scene.output;
     o.vtk_every = crate::scenario::output::cadence("command line", "--vtk-every", args.vtk_every)?
         .or(o.vtk_every);
-    o.trajectory_every =
-        crate::scenario::output::cadence("command line", "--trajectory-every", args.trajectory_every)?
-            .or(o.trajectory_every);
+    o.trajectory_every = crate::scenario::output::cadence(
+        "command line",
+        "--trajectory-every",
+        args.trajectory_every,
+    )?
+    .or(o.trajectory_every);
     if let Some(v) = args.max_energy_error {
         scene.guards.energy_error_pct = positive_flag("--max-energy-error", v)?;
     }
@@ -291,15 +294,30 @@ impl RenderArgs {
             Some(r) => {
                 let (lo, hi) = pair("--range", r, ',', "0,2")?;
                 if hi <= lo {
-                    return Err(Error::bad("command line", "--range", format!("needs LO < HI, got {r}")));
+                    return Err(Error::bad(
+                        "command line",
+                        "--range",
+                        format!("needs LO < HI, got {r}"),
+                    ));
                 }
                 Some((lo, hi))
             }
             None => None,
         };
         let (w, h) = pair("--size", &self.size, 'x', "1000x800")?;
-        if !(16.0..=8192.0).contains(&w) || !(16.0..=8192.0).contains(&h) || w.fract() != 0.0 || h.fract() != 0.0 {
-            return Err(Error::bad("command line", "--size", format!("`{}`: width and height must be whole numbers from 16 to 8192", self.size)));
+        if !(16.0..=8192.0).contains(&w)
+            || !(16.0..=8192.0).contains(&h)
+            || w.fract() != 0.0
+            || h.fract() != 0.0
+        {
+            return Err(Error::bad(
+                "command line",
+                "--size",
+                format!(
+                    "`{}`: width and height must be whole numbers from 16 to 8192",
+                    self.size
+                ),
+            ));
         }
         let output = self
             .output

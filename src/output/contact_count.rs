@@ -22,7 +22,9 @@ use rayon::prelude::*;
 pub fn contacts_per_body(bodies: &[Body], states: &[BodyState], walls: Option<&Walls>) -> Vec<u32> {
     let n = bodies.len();
     let mut count = vec![0u32; n];
-    let fibres = bodies.iter().all(|b| matches!(b.shape, Shape::Fibre { .. }));
+    let fibres = bodies
+        .iter()
+        .all(|b| matches!(b.shape, Shape::Fibre { .. }));
     if !fibres || (walls.is_none() && n < 2) {
         return count;
     }
@@ -42,7 +44,10 @@ pub fn contacts_per_body(bodies: &[Body], states: &[BodyState], walls: Option<&W
     let boxes: Vec<(DVec3, DVec3)> = geoms
         .iter()
         .map(|g| {
-            let (a, b) = (g.centre - g.half_length * g.axis, g.centre + g.half_length * g.axis);
+            let (a, b) = (
+                g.centre - g.half_length * g.axis,
+                g.centre + g.half_length * g.axis,
+            );
             // The capsule's box, grown by 0.1 D as the stage's half skin is:
             // a few more candidates to reject, never a contact missed.
             let r = DVec3::splat(1.2 * g.radius);
@@ -61,7 +66,11 @@ pub fn contacts_per_body(bodies: &[Body], states: &[BodyState], walls: Option<&W
             .zip(&boxes)
             .map(|(g, (lo, hi))| {
                 let reaches = |wall: &&crate::contact::Wall| {
-                    let corner = if wall.normal.max_element() > 0.0 { *lo } else { *hi };
+                    let corner = if wall.normal.max_element() > 0.0 {
+                        *lo
+                    } else {
+                        *hi
+                    };
                     wall.normal.dot(corner) <= wall.offset
                 };
                 walls
@@ -79,7 +88,12 @@ pub fn contacts_per_body(bodies: &[Body], states: &[BodyState], walls: Option<&W
     candidate_pairs(&boxes, &mut pairs);
     let touching: Vec<bool> = pairs
         .par_iter()
-        .map(|&(i, j)| touch(Collider::Fibre(&geoms[i as usize]), Collider::Fibre(&geoms[j as usize])))
+        .map(|&(i, j)| {
+            touch(
+                Collider::Fibre(&geoms[i as usize]),
+                Collider::Fibre(&geoms[j as usize]),
+            )
+        })
         .collect();
     for (&(i, j), t) in pairs.iter().zip(touching) {
         if t {

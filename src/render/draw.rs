@@ -39,7 +39,12 @@ fn colour(rgb: [u8; 3], k: f64) -> Color {
 /// An ellipse with semi-axis vectors `u`, `v` around `c`, as 4 cubics.
 fn ellipse(pb: &mut PathBuilder, c: (f64, f64), u: (f64, f64), v: (f64, f64)) {
     const K: f64 = 0.552_284_749_8; // 4/3 (√2 − 1): a quarter circle as one cubic
-    let at = |a: f64, b: f64| ((c.0 + a * u.0 + b * v.0) as f32, (c.1 + a * u.1 + b * v.1) as f32);
+    let at = |a: f64, b: f64| {
+        (
+            (c.0 + a * u.0 + b * v.0) as f32,
+            (c.1 + a * u.1 + b * v.1) as f32,
+        )
+    };
     let quarter = [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0), (1.0, 0.0)];
     let (x, y) = at(1.0, 0.0);
     pb.move_to(x, y);
@@ -87,7 +92,11 @@ pub(crate) fn fibre(pm: &mut Pixmap, cam: &Camera, f: &Fibre, rgb: [u8; 3], caps
         }
         return;
     }
-    let (ux, uy) = if len > 1e-9 { (sx / len, sy / len) } else { (1.0, 0.0) };
+    let (ux, uy) = if len > 1e-9 {
+        (sx / len, sy / len)
+    } else {
+        (1.0, 0.0)
+    };
     let (px, py) = (-uy, ux); // screen perpendicular of the axis
     let light = light_of(cam);
     // The world direction of the screen perpendicular (screen y points down),
@@ -100,7 +109,10 @@ pub(crate) fn fibre(pm: &mut Pixmap, cam: &Camera, f: &Fibre, rgb: [u8; 3], caps
         .map(|i| {
             let s = -1.0 + 2.0 * i as f64 / (STOPS - 1) as f64;
             let n = s * p3 + (1.0 - s * s).max(0.0).sqrt() * facing;
-            GradientStop::new(i as f32 / (STOPS - 1) as f32, shade(rgb, n, light, cam.toward))
+            GradientStop::new(
+                i as f32 / (STOPS - 1) as f32,
+                shade(rgb, n, light, cam.toward),
+            )
         })
         .collect();
     let mid = (0.5 * (x1 + x2), 0.5 * (y1 + y2));
@@ -112,7 +124,12 @@ pub(crate) fn fibre(pm: &mut Pixmap, cam: &Camera, f: &Fibre, rgb: [u8; 3], caps
     };
     let mut pb = PathBuilder::new();
     let corner = |x: f64, y: f64, s: f64| ((x + s * r * px) as f32, (y + s * r * py) as f32);
-    let q = [corner(x1, y1, 1.0), corner(x2, y2, 1.0), corner(x2, y2, -1.0), corner(x1, y1, -1.0)];
+    let q = [
+        corner(x1, y1, 1.0),
+        corner(x2, y2, 1.0),
+        corner(x2, y2, -1.0),
+        corner(x1, y1, -1.0),
+    ];
     pb.move_to(q[0].0, q[0].1);
     for p in &q[1..] {
         pb.line_to(p.0, p.1);
@@ -131,14 +148,24 @@ pub(crate) fn fibre(pm: &mut Pixmap, cam: &Camera, f: &Fibre, rgb: [u8; 3], caps
     }
     let Some(hull) = pb.finish() else { return };
     paint.shader = side;
-    pm.fill_path(&hull, &paint, FillRule::Winding, Transform::identity(), None);
+    pm.fill_path(
+        &hull,
+        &paint,
+        FillRule::Winding,
+        Transform::identity(),
+        None,
+    );
     if capsule {
         for &e in &ends {
             sphere_cap(pm, e, r, rgb, cam, light);
         }
     } else if c.abs() > 1e-3 {
         // The end face whose outward normal faces the camera.
-        let (e, n) = if c > 0.0 { (ends[1], f.axis) } else { (ends[0], -f.axis) };
+        let (e, n) = if c > 0.0 {
+            (ends[1], f.axis)
+        } else {
+            (ends[0], -f.axis)
+        };
         let mut pb = PathBuilder::new();
         ellipse(&mut pb, e, across, along);
         if let Some(cap) = pb.finish() {
@@ -170,14 +197,24 @@ fn outline(pm: &mut Pixmap, path: &Path, rgb: [u8; 3], r: f64) {
 /// A capsule's hemispherical end: a radial gradient lit from `light`.
 fn sphere_cap(pm: &mut Pixmap, e: (f64, f64), r: f64, rgb: [u8; 3], cam: &Camera, light: DVec3) {
     let hl = (light.dot(cam.right), -light.dot(cam.up));
-    let focus = Point::from_xy((e.0 + 0.45 * r * hl.0) as f32, (e.1 + 0.45 * r * hl.1) as f32);
+    let focus = Point::from_xy(
+        (e.0 + 0.45 * r * hl.0) as f32,
+        (e.1 + 0.45 * r * hl.1) as f32,
+    );
     let stops = vec![
         GradientStop::new(0.0, shade(rgb, light, light, cam.toward)),
         GradientStop::new(1.0, colour(rgb, 0.4)),
     ];
     let centre = Point::from_xy(e.0 as f32, e.1 as f32);
-    let Some(shader) = RadialGradient::new(focus, 0.0, centre, r as f32, stops, SpreadMode::Pad, Transform::identity())
-    else {
+    let Some(shader) = RadialGradient::new(
+        focus,
+        0.0,
+        centre,
+        r as f32,
+        stops,
+        SpreadMode::Pad,
+        Transform::identity(),
+    ) else {
         return;
     };
     let paint = Paint {
@@ -186,7 +223,13 @@ fn sphere_cap(pm: &mut Pixmap, e: (f64, f64), r: f64, rgb: [u8; 3], cam: &Camera
         ..Paint::default()
     };
     if let Some(path) = PathBuilder::from_circle(e.0 as f32, e.1 as f32, r as f32) {
-        pm.fill_path(&path, &paint, FillRule::Winding, Transform::identity(), None);
+        pm.fill_path(
+            &path,
+            &paint,
+            FillRule::Winding,
+            Transform::identity(),
+            None,
+        );
     }
 }
 

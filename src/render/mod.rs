@@ -80,7 +80,11 @@ fn look(frames: &[&Frame], o: &RenderOptions) -> picture::Look {
     let area = picture::area(o.width, o.height);
     let camera = Camera::fit(o.view, bounds(frames.iter().copied()), area, o.zoom);
     let scale = match o.range {
-        Some((lo, hi)) => ColourScale { field: o.field, lo, hi },
+        Some((lo, hi)) => ColourScale {
+            field: o.field,
+            lo,
+            hi,
+        },
         None => ColourScale::fit(o.field, frames.iter().flat_map(|f| &f.fibres)),
     };
     picture::Look {
@@ -131,7 +135,11 @@ pub fn still(source: &Source, step: Option<u64>, o: &RenderOptions, out: &Path) 
                 }
             }
             found.ok_or_else(|| {
-                Error::bad("command line", "--step", format!("no frame at step {s}; give a step the input holds"))
+                Error::bad(
+                    "command line",
+                    "--step",
+                    format!("no frame at step {s}; give a step the input holds"),
+                )
             })?
         }
     };
@@ -144,7 +152,9 @@ pub fn still(source: &Source, step: Option<u64>, o: &RenderOptions, out: &Path) 
 pub fn animate(source: &Source, o: &RenderOptions, fps: f64, out: &Path) -> Result<usize> {
     let n = source.len();
     // Read the frames once for the shared range and bounds; then draw.
-    let frames = (0..n).map(|k| source.frame(k)).collect::<Result<Vec<_>>>()?;
+    let frames = (0..n)
+        .map(|k| source.frame(k))
+        .collect::<Result<Vec<_>>>()?;
     let refs: Vec<&Frame> = frames.iter().collect();
     let look = look(&refs, o);
     let file = std::fs::File::create(out).map_err(|e| Error::io(out, e))?;
@@ -164,6 +174,8 @@ pub fn animate(source: &Source, o: &RenderOptions, fps: f64, out: &Path) -> Resu
 
 /// The default output beside `input`: `<stem>.png` or `<stem>.gif`.
 pub fn default_output(input: &Path, gif: bool) -> PathBuf {
-    let stem = input.file_stem().map_or("render".into(), |s| s.to_string_lossy().into_owned());
+    let stem = input
+        .file_stem()
+        .map_or("render".into(), |s| s.to_string_lossy().into_owned());
     input.with_file_name(format!("{stem}.{}", if gif { "gif" } else { "png" }))
 }

@@ -5,7 +5,9 @@ use super::camera::Camera;
 use super::field::{ColourScale, Field, PALETTE};
 use super::frame::Frame;
 use super::{draw, text};
-use tiny_skia::{Color, GradientStop, LinearGradient, Paint, Pixmap, Point, Rect, SpreadMode, Transform};
+use tiny_skia::{
+    Color, GradientStop, LinearGradient, Paint, Pixmap, Point, Rect, SpreadMode, Transform,
+};
 
 /// Pixels kept free on the right for the colour bar, and on top for the title.
 pub(crate) const BAR_MARGIN: f64 = 150.0;
@@ -77,8 +79,16 @@ fn short(x: f64) -> String {
         return "0".into();
     }
     if x.abs() >= 1e-3 && x.abs() < 1e5 {
-        let s = format!("{:.*}", (5 - x.abs().log10().floor() as i32).max(0) as usize, x);
-        let s = if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s };
+        let s = format!(
+            "{:.*}",
+            (5 - x.abs().log10().floor() as i32).max(0) as usize,
+            x
+        );
+        let s = if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        };
         return s;
     }
     format!("{x:.4e}")
@@ -97,9 +107,9 @@ fn ticks(lo: f64, hi: f64, integer: bool) -> Vec<f64> {
     if integer {
         step = step.max(1.0).round();
     }
-    let first = (lo / step).ceil() * step;
+    let first = (lo / step).ceil();
     (0..)
-        .map(|k| first + k as f64 * step)
+        .map(|k| (first + k as f64) * step)
         .take_while(|&v| v <= hi + 1e-9 * span)
         .take(12)
         .collect()
@@ -112,12 +122,19 @@ fn bar(pm: &mut Pixmap, font: &ab_glyph::FontRef, s: &ColourScale) {
     let bottom = (h - 40.0).max(top + 20.0);
     let stops = (0..=8)
         .map(|k| {
-            let c = super::field::viridis(k as f64 / 8.0);
-            GradientStop::new(1.0 - k as f32 / 8.0, Color::from_rgba8(c[0], c[1], c[2], 255))
+            // Stops ascend from the top (hi) to the bottom (lo).
+            let c = super::field::viridis(1.0 - k as f64 / 8.0);
+            GradientStop::new(k as f32 / 8.0, Color::from_rgba8(c[0], c[1], c[2], 255))
         })
         .collect();
     if let (Some(shader), Some(rect)) = (
-        LinearGradient::new(Point::from_xy(x, top), Point::from_xy(x, bottom), stops, SpreadMode::Pad, Transform::identity()),
+        LinearGradient::new(
+            Point::from_xy(x, top),
+            Point::from_xy(x, bottom),
+            stops,
+            SpreadMode::Pad,
+            Transform::identity(),
+        ),
         Rect::from_ltrb(x, top, x + bw, bottom),
     ) {
         let paint = Paint {
@@ -128,7 +145,9 @@ fn bar(pm: &mut Pixmap, font: &ab_glyph::FontRef, s: &ColourScale) {
     }
     let title = s.field.label();
     let tw = text::width(font, 15.0, title);
-    let tx = (x + 0.5 * bw - 0.5 * tw).min(w - tw - 4.0).max(w - BAR_MARGIN as f32);
+    let tx = (x + 0.5 * bw - 0.5 * tw)
+        .min(w - tw - 4.0)
+        .max(w - BAR_MARGIN as f32);
     text::draw(pm, font, 15.0, (tx, top - 14.0), title, [30, 30, 30]);
     let integer = s.field.integer();
     for v in ticks(s.lo, s.hi, integer) {
@@ -138,8 +157,19 @@ fn bar(pm: &mut Pixmap, font: &ab_glyph::FontRef, s: &ColourScale) {
         if let Some(r) = Rect::from_xywh(x + bw, y - 0.5, 5.0, 1.0) {
             pm.fill_rect(r, &paint, Transform::identity(), None);
         }
-        let label = if integer { format!("{}", v.round() as i64) } else { short(v) };
-        text::draw(pm, font, 13.0, (x + bw + 8.0, y + 5.0), &label, [30, 30, 30]);
+        let label = if integer {
+            format!("{}", v.round() as i64)
+        } else {
+            short(v)
+        };
+        text::draw(
+            pm,
+            font,
+            13.0,
+            (x + bw + 8.0, y + 5.0),
+            &label,
+            [30, 30, 30],
+        );
     }
 }
 
@@ -166,7 +196,8 @@ mod tests {
     /// Reference: the ticks a person would choose for these ranges.
     #[test]
     fn ticks_are_round_numbers_inside_the_range() {
-        assert_eq!(ticks(0.0, 1.0, false), vec![0.0, 0.2, 0.4, 0.6000000000000001, 0.8, 1.0]);
+        let labels: Vec<String> = ticks(0.0, 1.0, false).into_iter().map(short).collect();
+        assert_eq!(labels, ["0", "0.2", "0.4", "0.6", "0.8", "1"]);
         assert_eq!(ticks(0.0, 3.0, true), vec![0.0, 1.0, 2.0, 3.0]);
         assert_eq!(short(0.5), "0.5");
         assert_eq!(short(1.2345678), "1.23457");

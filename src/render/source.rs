@@ -108,9 +108,12 @@ fn box_beside(dir: &Path) -> Result<Option<(DVec3, DVec3)>> {
 fn vtk_frame(path: &Path, walls: Option<(DVec3, DVec3)>) -> Result<Frame> {
     let v = read_vtp(path)?;
     let need = |name: &str, comps: usize| -> Result<Vec<f64>> {
-        let a = v
-            .cell(name)
-            .ok_or_else(|| bad(path, format!("has no cell array `{name}`: not a fibresim frame")))?;
+        let a = v.cell(name).ok_or_else(|| {
+            bad(
+                path,
+                format!("has no cell array `{name}`: not a fibresim frame"),
+            )
+        })?;
         let vals = a.to_f64();
         if a.components != comps || vals.len() != comps * v.n_lines {
             return Err(bad(path, format!("cell array `{name}` has the wrong size")));
@@ -122,7 +125,11 @@ fn vtk_frame(path: &Path, walls: Option<(DVec3, DVec3)>) -> Result<Frame> {
         return Err(bad(path, "expected two points per line"));
     }
     let (axis, d, l) = (need("axis", 3)?, need("diameter", 1)?, need("length", 1)?);
-    let (vel, om, ke) = (need("velocity", 3)?, need("omega", 3)?, need("kinetic_energy", 1)?);
+    let (vel, om, ke) = (
+        need("velocity", 3)?,
+        need("omega", 3)?,
+        need("kinetic_energy", 1)?,
+    );
     let (cnt, mat, id) = (need("contacts", 1)?, need("material", 1)?, need("id", 1)?);
     let v3 = |a: &[f64], i: usize| DVec3::new(a[3 * i], a[3 * i + 1], a[3 * i + 2]);
     let fibres = (0..v.n_lines)
@@ -175,7 +182,12 @@ fn checkpoint(path: &Path) -> Result<Frame> {
     if states.len() != scene.bodies.len() {
         return Err(bad(path, "its states do not match its own scenario"));
     }
-    Ok(Frame::of_states(&scene, &states, c.step, c.step as f64 * scene.sim.dt()))
+    Ok(Frame::of_states(
+        &scene,
+        &states,
+        c.step,
+        c.step as f64 * scene.sim.dt(),
+    ))
 }
 
 /// The scenario of a trajectory: `--scenario`, else the summary beside it.
@@ -185,23 +197,37 @@ fn trajectory_scene(input: &Path, scenario: Option<&Path>) -> Result<Scene> {
     }
     let summary = input.with_file_name("summary.json");
     let fix = "give the scenario with --scenario PATH";
-    let text = std::fs::read_to_string(&summary)
-        .map_err(|e| bad(input, format!("the fibre sizes are in its scenario, and {} cannot be read ({e}); {fix}", summary.display())))?;
-    let v: serde_json::Value = serde_json::from_str(&text)
-        .map_err(|e| bad(&summary, format!("not JSON ({e}); {fix}")))?;
+    let text = std::fs::read_to_string(&summary).map_err(|e| {
+        bad(
+            input,
+            format!(
+                "the fibre sizes are in its scenario, and {} cannot be read ({e}); {fix}",
+                summary.display()
+            ),
+        )
+    })?;
+    let v: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| bad(&summary, format!("not JSON ({e}); {fix}")))?;
     let source = v["scenario"].as_str().unwrap_or("");
     if source.starts_with("<built-in") {
         let (name, text) = crate::cli::plan::DEFAULT_SCENE;
         return scenario::parse_str(text, name);
     }
     scenario::load(Path::new(source)).map_err(|_| {
-        bad(input, format!("its scenario `{source}` (from {}) cannot be loaded from here; {fix}", summary.display()))
+        bad(
+            input,
+            format!(
+                "its scenario `{source}` (from {}) cannot be loaded from here; {fix}",
+                summary.display()
+            ),
+        )
     })
 }
 
 fn trajectory(input: &Path, scenario: Option<&Path>) -> Result<Vec<Frame>> {
     let scene = trajectory_scene(input, scenario)?;
-    let mut r = csv::Reader::from_path(input).map_err(|e| bad(input, format!("cannot read: {e}")))?;
+    let mut r =
+        csv::Reader::from_path(input).map_err(|e| bad(input, format!("cannot read: {e}")))?;
     let header: Vec<String> = r
         .headers()
         .map_err(|e| bad(input, e.to_string()))?
@@ -209,10 +235,17 @@ fn trajectory(input: &Path, scenario: Option<&Path>) -> Result<Vec<Frame>> {
         .map(str::to_string)
         .collect();
     if header != crate::output::trajectory::TRAJECTORY_COLUMNS {
-        return Err(bad(input, "not a trajectory.csv (its columns differ); give one written by --trajectory-every N"));
+        return Err(bad(
+            input,
+            "not a trajectory.csv (its columns differ); give one written by --trajectory-every N",
+        ));
     }
-    let index: std::collections::HashMap<u64, usize> =
-        scene.ids.iter().enumerate().map(|(i, &id)| (id, i)).collect();
+    let index: std::collections::HashMap<u64, usize> = scene
+        .ids
+        .iter()
+        .enumerate()
+        .map(|(i, &id)| (id, i))
+        .collect();
     let mut frames = vec![];
     let mut states = scene.initial.clone();
     let mut seen = 0usize;
@@ -222,7 +255,12 @@ fn trajectory(input: &Path, scenario: Option<&Path>) -> Result<Vec<Frame>> {
         let num = |k: usize| -> Result<f64> {
             rec.get(k)
                 .and_then(|s| s.parse::<f64>().ok())
-                .ok_or_else(|| bad(input, format!("line {}: column {} is not a number", line + 2, header[k])))
+                .ok_or_else(|| {
+                    bad(
+                        input,
+                        format!("line {}: column {} is not a number", line + 2, header[k]),
+                    )
+                })
         };
         let (step, t, id) = (num(0)? as u64, num(1)?, num(2)? as u64);
         if let Some((s, ts)) = current {

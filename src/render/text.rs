@@ -29,7 +29,14 @@ pub(crate) fn width(font: &FontRef, size: f32, text: &str) -> f32 {
 
 /// Draw `text` with its baseline at `y`, starting at `x`, in `rgb` (over
 /// an opaque picture).
-pub(crate) fn draw(pm: &mut Pixmap, font: &FontRef, size: f32, (x, y): (f32, f32), text: &str, rgb: [u8; 3]) {
+pub(crate) fn draw(
+    pm: &mut Pixmap,
+    font: &FontRef,
+    size: f32,
+    (x, y): (f32, f32),
+    text: &str,
+    rgb: [u8; 3],
+) {
     let scale = PxScale::from(size);
     let f = font.as_scaled(scale);
     let (w, h) = (pm.width() as i32, pm.height() as i32);
@@ -44,7 +51,9 @@ pub(crate) fn draw(pm: &mut Pixmap, font: &FontRef, size: f32, (x, y): (f32, f32
         let glyph = id.with_scale_and_position(scale, ab_glyph::point(pen, y));
         pen += f.h_advance(id);
         prev = Some(id);
-        let Some(og) = font.outline_glyph(glyph) else { continue };
+        let Some(og) = font.outline_glyph(glyph) else {
+            continue;
+        };
         let b = og.px_bounds();
         og.draw(|gx, gy, cov| {
             let (px, py) = (b.min.x as i32 + gx as i32, b.min.y as i32 + gy as i32);

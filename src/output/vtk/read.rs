@@ -94,7 +94,10 @@ fn attrs(tag: &str) -> Vec<(String, String)> {
     let mut out = vec![];
     let mut rest = tag;
     while let Some(eq) = rest.find("=\"") {
-        let key = rest[..eq].rsplit(|c: char| c.is_whitespace()).next().unwrap_or("");
+        let key = rest[..eq]
+            .rsplit(|c: char| c.is_whitespace())
+            .next()
+            .unwrap_or("");
         let after = &rest[eq + 2..];
         let Some(end) = after.find('"') else { break };
         out.push((key.to_string(), after[..end].to_string()));
@@ -110,13 +113,21 @@ fn attr<'a>(a: &'a [(String, String)], key: &str) -> Option<&'a str> {
 /// Read a `.vtp` file written by fibresim.
 pub fn read_vtp(path: &Path) -> Result<Vtp> {
     let bytes = std::fs::read(path).map_err(|e| {
-        bad(path, format!("cannot read: {e}; give a frame written by `fibresim run --vtk-every N`"))
+        bad(
+            path,
+            format!("cannot read: {e}; give a frame written by `fibresim run --vtk-every N`"),
+        )
     })?;
     let marker = b"<AppendedData encoding=\"raw\">";
     let at = bytes
         .windows(marker.len())
         .position(|w| w == marker)
-        .ok_or_else(|| bad(path, "has no appended raw data: not a VTK frame written by fibresim"))?;
+        .ok_or_else(|| {
+            bad(
+                path,
+                "has no appended raw data: not a VTK frame written by fibresim",
+            )
+        })?;
     let head = std::str::from_utf8(&bytes[..at])
         .map_err(|_| bad(path, "the XML before the data is not UTF-8"))?;
     let underscore = bytes[at..]
@@ -135,7 +146,12 @@ pub fn read_vtp(path: &Path) -> Result<Vtp> {
     let compressed = match attr(&ra, "compressor") {
         None => false,
         Some("vtkZLibDataCompressor") => true,
-        Some(c) => return Err(bad(path, format!("compressor `{c}` is not read; only zlib"))),
+        Some(c) => {
+            return Err(bad(
+                path,
+                format!("compressor `{c}` is not read; only zlib"),
+            ))
+        }
     };
     if attr(&ra, "header_type").unwrap_or("UInt32") != "UInt64" {
         return Err(bad(path, "only header_type=\"UInt64\" is read"));
@@ -144,7 +160,11 @@ pub fn read_vtp(path: &Path) -> Result<Vtp> {
         .find("<Piece")
         .map(|i| attrs(&head[i..i + head[i..].find('>').unwrap_or(0)]))
         .ok_or_else(|| bad(path, "no <Piece>"))?;
-    let count = |k: &str| attr(&piece, k).and_then(|v| v.parse::<usize>().ok()).unwrap_or(0);
+    let count = |k: &str| {
+        attr(&piece, k)
+            .and_then(|v| v.parse::<usize>().ok())
+            .unwrap_or(0)
+    };
     let mut vtp = Vtp {
         field: vec![],
         points: ReadArray {
@@ -188,7 +208,12 @@ fn u64_at(b: &[u8], k: usize) -> Option<u64> {
         .map(|s| u64::from_le_bytes(s.try_into().expect("8 bytes")))
 }
 
-fn read_array(path: &Path, a: &[(String, String)], data: &[u8], compressed: bool) -> Result<ReadArray> {
+fn read_array(
+    path: &Path,
+    a: &[(String, String)],
+    data: &[u8],
+    compressed: bool,
+) -> Result<ReadArray> {
     let name = attr(a, "Name").unwrap_or("").to_string();
     let broken = |what: &str| bad(path, format!("array `{name}`: {what}"));
     if attr(a, "format") != Some("appended") {
@@ -197,7 +222,9 @@ fn read_array(path: &Path, a: &[(String, String)], data: &[u8], compressed: bool
     let offset: usize = attr(a, "offset")
         .and_then(|v| v.parse().ok())
         .ok_or_else(|| broken("no offset"))?;
-    let block = data.get(offset..).ok_or_else(|| broken("offset past the end"))?;
+    let block = data
+        .get(offset..)
+        .ok_or_else(|| broken("offset past the end"))?;
     let raw = if compressed {
         let n = u64_at(block, 0).ok_or_else(|| broken("truncated header"))? as usize;
         let mut sizes = Vec::with_capacity(n);
@@ -207,7 +234,9 @@ fn read_array(path: &Path, a: &[(String, String)], data: &[u8], compressed: bool
         let mut at = 8 * (3 + n);
         let mut raw = vec![];
         for s in sizes {
-            let z = block.get(at..at + s).ok_or_else(|| broken("truncated data"))?;
+            let z = block
+                .get(at..at + s)
+                .ok_or_else(|| broken("truncated data"))?;
             flate2::read::ZlibDecoder::new(z)
                 .read_to_end(&mut raw)
                 .map_err(|e| broken(&format!("bad zlib stream: {e}")))?;
@@ -216,13 +245,32 @@ fn read_array(path: &Path, a: &[(String, String)], data: &[u8], compressed: bool
         raw
     } else {
         let n = u64_at(block, 0).ok_or_else(|| broken("truncated header"))? as usize;
-        block.get(8..8 + n).ok_or_else(|| broken("truncated data"))?.to_vec()
+        block
+            .get(8..8 + n)
+            .ok_or_else(|| broken("truncated data"))?
+            .to_vec()
     };
     let values = match attr(a, "type") {
-        Some("Float32") => Values::F32(raw.chunks_exact(4).map(|c| f32::from_le_bytes(c.try_into().expect("4"))).collect()),
-        Some("Float64") => Values::F64(raw.chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().expect("8"))).collect()),
-        Some("Int32") => Values::I32(raw.chunks_exact(4).map(|c| i32::from_le_bytes(c.try_into().expect("4"))).collect()),
-        Some("Int64") => Values::I64(raw.chunks_exact(8).map(|c| i64::from_le_bytes(c.try_into().expect("8"))).collect()),
+        Some("Float32") => Values::F32(
+            raw.chunks_exact(4)
+                .map(|c| f32::from_le_bytes(c.try_into().expect("4")))
+                .collect(),
+        ),
+        Some("Float64") => Values::F64(
+            raw.chunks_exact(8)
+                .map(|c| f64::from_le_bytes(c.try_into().expect("8")))
+                .collect(),
+        ),
+        Some("Int32") => Values::I32(
+            raw.chunks_exact(4)
+                .map(|c| i32::from_le_bytes(c.try_into().expect("4")))
+                .collect(),
+        ),
+        Some("Int64") => Values::I64(
+            raw.chunks_exact(8)
+                .map(|c| i64::from_le_bytes(c.try_into().expect("8")))
+                .collect(),
+        ),
         t => return Err(broken(&format!("type {t:?} is not read"))),
     };
     let components = attr(a, "NumberOfComponents")
@@ -243,7 +291,10 @@ fn read_array(path: &Path, a: &[(String, String)], data: &[u8], compressed: bool
 /// file paths resolved against the collection's folder.
 pub fn read_pvd(path: &Path) -> Result<Vec<(f64, PathBuf)>> {
     let text = std::fs::read_to_string(path).map_err(|e| {
-        bad(path, format!("cannot read: {e}; give the fibres.pvd a run wrote with --vtk-every N"))
+        bad(
+            path,
+            format!("cannot read: {e}; give the fibres.pvd a run wrote with --vtk-every N"),
+        )
     })?;
     if !text.contains("type=\"Collection\"") {
         return Err(bad(path, "not a VTK collection (.pvd)"));

@@ -112,7 +112,8 @@ fn compress(bytes: &[u8]) -> Vec<u8> {
         })
         .collect();
     let last = (bytes.len() % BLOCK) as u64;
-    let mut out = Vec::with_capacity(24 + 8 * blocks.len() + blocks.iter().map(Vec::len).sum::<usize>());
+    let mut out =
+        Vec::with_capacity(24 + 8 * blocks.len() + blocks.iter().map(Vec::len).sum::<usize>());
     for h in [blocks.len() as u64, BLOCK as u64, last] {
         out.extend(h.to_le_bytes());
     }
