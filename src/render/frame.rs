@@ -50,11 +50,7 @@ impl Frame {
     /// The frame of `scene`'s bodies at `states` (storage order), with the
     /// contact counts recounted.
     pub fn of_states(scene: &Scene, states: &[BodyState], step: u64, t: f64) -> Self {
-        let contacts = crate::output::contact_count::contacts_per_body(
-            &scene.bodies,
-            states,
-            scene.walls.as_ref(),
-        );
+        let contacts = crate::output::contact_count::contacts_at(scene, states);
         let fibres = scene
             .bodies
             .iter()

@@ -147,6 +147,9 @@ pub fn still(source: &Source, step: Option<u64>, o: &RenderOptions, out: &Path) 
     Ok(frame)
 }
 
+/// NeuQuant sampling factor of the GIF palettes (1 best … 30 fastest).
+const GIF_SPEED: i32 = 10;
+
 /// Animate every frame of `source` into a GIF at `fps`, one camera and one
 /// colour range for all (the data's over every frame unless `o.range`).
 pub fn animate(source: &Source, o: &RenderOptions, fps: f64, out: &Path) -> Result<usize> {
@@ -163,11 +166,22 @@ pub fn animate(source: &Source, o: &RenderOptions, fps: f64, out: &Path) -> Resu
     let mut enc = gif::Encoder::new(std::io::BufWriter::new(file), w, h, &[]).map_err(io)?;
     enc.set_repeat(gif::Repeat::Infinite).map_err(io)?;
     let delay = (100.0 / fps).round().clamp(2.0, 6000.0) as u16;
-    for f in &frames {
-        let pm = picture::picture(f, &look);
-        let mut gf = gif::Frame::from_rgb_speed(w, h, &rgb(&pm), 10);
-        gf.delay = delay;
-        enc.write_frame(&gf).map_err(io)?;
+    // Drawing and palette quantisation in parallel, a few frames at a time
+    // (each is a pure function of its frame); written in order.
+    use rayon::prelude::*;
+    for chunk in frames.chunks(2 * rayon::current_num_threads().max(1)) {
+        let encoded: Vec<gif::Frame> = chunk
+            .par_iter()
+            .map(|f| {
+                let pm = picture::picture(f, &look);
+                let mut gf = gif::Frame::from_rgb_speed(w, h, &rgb(&pm), GIF_SPEED);
+                gf.delay = delay;
+                gf
+            })
+            .collect();
+        for gf in &encoded {
+            enc.write_frame(gf).map_err(io)?;
+        }
     }
     Ok(n)
 }

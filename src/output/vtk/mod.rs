@@ -93,9 +93,7 @@ impl Observer for VtkSeries {
 
     fn row(&mut self, v: &View) -> Result<()> {
         let w = v.world;
-        let scene = w.scene;
-        let counts =
-            super::contact_count::contacts_per_body(&scene.bodies, &w.states, scene.walls.as_ref());
+        let counts = super::contact_count::contacts_of_world(w);
         let name = frame_name(w.step);
         self.write(name.clone(), &frame::frame_bytes(w, &counts))?;
         self.pvd.push(w.time(), &name)

@@ -1,6 +1,7 @@
 //! A small writer of VTK XML files (`.vtp`) with appended raw binary data,
 //! zlib-compressed in blocks (`vtkZLibDataCompressor`, `header_type="UInt64"`,
-//! little endian). Why our own: the `vtkio` crate's release (0.6.3) writes
+//! little endian) from [`COMPRESS_FROM`] bytes of data on, uncompressed
+//! below. Why our own: the `vtkio` crate's release (0.6.3) writes
 //! neither appended raw data nor `.pvd` collections.
 //!
 //! Layout of one array in the appended block (VTK's compressed format):
@@ -17,6 +18,9 @@ use std::fmt::Write as _;
 pub(crate) const BLOCK: usize = 1 << 15;
 /// zlib level: 1 is the fastest (measured in `benches/frames.rs`).
 pub(crate) const LEVEL: u32 = 1;
+/// Files with less data than this (bytes, about 250 fibres) are written
+/// uncompressed.
+pub(crate) const COMPRESS_FROM: usize = 1 << 15;
 
 /// The numbers of one array, borrowed.
 pub(crate) enum Data<'a> {
@@ -98,19 +102,46 @@ pub(crate) struct PolyPiece<'a> {
     pub n_lines: usize,
 }
 
+thread_local! {
+    /// One zlib compressor per thread, reset between blocks: a new one
+    /// allocates and clears ~300 KB of tables, which for small frames
+    /// (test case 2's nine fibres) cost more than the data.
+    static ZLIB: std::cell::RefCell<flate2::Compress> =
+        std::cell::RefCell::new(flate2::Compress::new(flate2::Compression::new(LEVEL), true));
+}
+
+/// One block as a complete zlib stream.
+fn zlib(block: &[u8]) -> Vec<u8> {
+    ZLIB.with(|z| {
+        let mut z = z.borrow_mut();
+        z.reset();
+        // Stored blocks bound the output: 5 bytes per 16 KiB, header, trailer.
+        let mut out = Vec::with_capacity(block.len() + block.len() / 1000 + 64);
+        let status = z
+            .compress_vec(block, &mut out, flate2::FlushCompress::Finish)
+            .expect("compressing into memory");
+        assert_eq!(status, flate2::Status::StreamEnd, "the output has room for the stream");
+        out
+    })
+}
+
+/// One array uncompressed: its byte count (u64), then the bytes.
+fn plain(bytes: &[u8]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(8 + bytes.len());
+    out.extend((bytes.len() as u64).to_le_bytes());
+    out.extend(bytes);
+    out
+}
+
 /// One array compressed into VTK's block format (header and streams).
 fn compress(bytes: &[u8]) -> Vec<u8> {
-    let blocks: Vec<Vec<u8>> = bytes
-        .par_chunks(BLOCK)
-        .map(|b| {
-            let mut e = flate2::write::ZlibEncoder::new(
-                Vec::with_capacity(b.len() / 2 + 64),
-                flate2::Compression::new(LEVEL),
-            );
-            std::io::Write::write_all(&mut e, b).expect("writing into memory");
-            e.finish().expect("writing into memory")
-        })
-        .collect();
+    let blocks: Vec<Vec<u8>> = if bytes.is_empty() {
+        vec![]
+    } else if bytes.len() <= BLOCK {
+        vec![zlib(bytes)]
+    } else {
+        bytes.par_chunks(BLOCK).map(zlib).collect()
+    };
     let last = (bytes.len() % BLOCK) as u64;
     let mut out =
         Vec::with_capacity(24 + 8 * blocks.len() + blocks.iter().map(Vec::len).sum::<usize>());
@@ -146,7 +177,14 @@ pub(crate) fn polydata(piece: &PolyPiece, comment: &str) -> Vec<u8> {
         .chain(&piece.cells)
         .chain(&piece.lines)
         .collect();
-    let blobs: Vec<Vec<u8>> = arrays.iter().map(|a| compress(&a.data.bytes())).collect();
+    let raw: Vec<Vec<u8>> = arrays.iter().map(|a| a.data.bytes()).collect();
+    // Small files stay uncompressed: resetting a zlib compressor clears
+    // ~150 KB of tables, more than a few hundred fibres' data costs to write.
+    let compressed = raw.iter().map(Vec::len).sum::<usize>() >= COMPRESS_FROM;
+    let blobs: Vec<Vec<u8>> = raw
+        .iter()
+        .map(|b| if compressed { compress(b) } else { plain(b) })
+        .collect();
     let mut offsets = Vec::with_capacity(blobs.len());
     let mut at = 0usize;
     for b in &blobs {
@@ -173,7 +211,12 @@ pub(crate) fn polydata(piece: &PolyPiece, comment: &str) -> Vec<u8> {
     };
     let mut x = String::new();
     x.push_str("<?xml version=\"1.0\"?>\n");
-    x.push_str("<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\">\n");
+    x.push_str("<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"");
+    x.push_str(if compressed {
+        " compressor=\"vtkZLibDataCompressor\">\n"
+    } else {
+        ">\n"
+    });
     if !comment.is_empty() {
         let _ = writeln!(x, "<!-- {} -->", escape(comment));
     }
