@@ -109,7 +109,7 @@ fn close32(a: f64, b: f64, what: &str) {
     );
 }
 
-fn cell<'a>(v: &'a Vtp, name: &str) -> Vec<f64> {
+fn cell(v: &Vtp, name: &str) -> Vec<f64> {
     v.cell(name)
         .unwrap_or_else(|| panic!("no cell array {name}"))
         .to_f64()

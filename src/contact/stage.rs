@@ -93,6 +93,8 @@ impl ContactStage {
     /// the last [`ContactStage::compute`]: its candidates asked again
     /// through the kernels. For output frames (VTK cell data, `render`), so
     /// the step itself keeps no per-body counts and pays nothing for them.
+    #[cold]
+    #[inline(never)]
     pub fn touching_per_body(&self) -> Vec<u32> {
         let mut count = vec![0u32; self.geoms.len()];
         let mut points = Vec::new();
@@ -108,7 +110,10 @@ impl ContactStage {
         }
         for &(a, b) in &self.neighbours.pairs {
             let (a, b) = (a as usize, b as usize);
-            let t = touch(Collider::Fibre(&self.geoms[a]), Collider::Fibre(&self.geoms[b])) as u32;
+            let t = touch(
+                Collider::Fibre(&self.geoms[a]),
+                Collider::Fibre(&self.geoms[b]),
+            ) as u32;
             count[a] += t;
             count[b] += t;
         }

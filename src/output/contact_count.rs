@@ -14,10 +14,10 @@ use glam::DVec3;
 /// Touching bodies and walls per body of `world` (storage order); zeros in
 /// a scene without contacts.
 pub fn contacts_of_world(world: &World) -> Vec<u32> {
-    world
-        .contacts
-        .as_ref()
-        .map_or_else(|| vec![0; world.states.len()], ContactStage::touching_per_body)
+    world.contacts.as_ref().map_or_else(
+        || vec![0; world.states.len()],
+        ContactStage::touching_per_body,
+    )
 }
 
 /// The same for `scene`'s bodies at `states` (a checkpoint, a trajectory
@@ -27,7 +27,10 @@ pub fn contacts_at(scene: &Scene, states: &[BodyState]) -> Vec<u32> {
         return vec![0; states.len()];
     }
     let mut stage = ContactStage::new(&scene.bodies, &scene.materials, scene.walls.as_ref());
-    let (mut f, mut t) = (vec![DVec3::ZERO; states.len()], vec![DVec3::ZERO; states.len()]);
+    let (mut f, mut t) = (
+        vec![DVec3::ZERO; states.len()],
+        vec![DVec3::ZERO; states.len()],
+    );
     stage.compute(&scene.bodies, states, &mut f, &mut t);
     stage.touching_per_body()
 }

@@ -132,14 +132,26 @@ pub(crate) fn fibre(pm: &mut Pixmap, cam: &Camera, f: &Fibre, rgb: [u8; 3], caps
         let grown = (k * ux, k * uy);
         if let Some(under) = hull(ends, r + 0.8, across, grown, capsule) {
             paint.set_color(colour(rgb, 0.35));
-            pm.fill_path(&under, &paint, FillRule::Winding, Transform::identity(), None);
+            pm.fill_path(
+                &under,
+                &paint,
+                FillRule::Winding,
+                Transform::identity(),
+                None,
+            );
         }
     }
     let Some(hull) = hull(ends, r, across, along, capsule) else {
         return;
     };
     paint.shader = side;
-    pm.fill_path(&hull, &paint, FillRule::Winding, Transform::identity(), None);
+    pm.fill_path(
+        &hull,
+        &paint,
+        FillRule::Winding,
+        Transform::identity(),
+        None,
+    );
     if capsule {
         for &e in &ends {
             sphere_cap(pm, e, r, rgb, cam, light);
@@ -167,11 +179,23 @@ fn scaled(v: (f64, f64), k: f64) -> (f64, f64) {
 /// The outline of a fibre of screen radius `r` between `ends`: the quad of
 /// the side and the two end ellipses (unit semi-axes `across` and `along`
 /// times `r`), or circles for a capsule.
-fn hull(ends: [(f64, f64); 2], r: f64, across: (f64, f64), along: (f64, f64), capsule: bool) -> Option<Path> {
+fn hull(
+    ends: [(f64, f64); 2],
+    r: f64,
+    across: (f64, f64),
+    along: (f64, f64),
+    capsule: bool,
+) -> Option<Path> {
     let mut pb = PathBuilder::new();
     let [(x1, y1), (x2, y2)] = ends;
-    let corner = |x: f64, y: f64, s: f64| ((x + s * r * across.0) as f32, (y + s * r * across.1) as f32);
-    let q = [corner(x1, y1, 1.0), corner(x2, y2, 1.0), corner(x2, y2, -1.0), corner(x1, y1, -1.0)];
+    let corner =
+        |x: f64, y: f64, s: f64| ((x + s * r * across.0) as f32, (y + s * r * across.1) as f32);
+    let q = [
+        corner(x1, y1, 1.0),
+        corner(x2, y2, 1.0),
+        corner(x2, y2, -1.0),
+        corner(x1, y1, -1.0),
+    ];
     pb.move_to(q[0].0, q[0].1);
     for p in &q[1..] {
         pb.line_to(p.0, p.1);

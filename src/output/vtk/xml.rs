@@ -120,7 +120,11 @@ fn zlib(block: &[u8]) -> Vec<u8> {
         let status = z
             .compress_vec(block, &mut out, flate2::FlushCompress::Finish)
             .expect("compressing into memory");
-        assert_eq!(status, flate2::Status::StreamEnd, "the output has room for the stream");
+        assert_eq!(
+            status,
+            flate2::Status::StreamEnd,
+            "the output has room for the stream"
+        );
         out
     })
 }
