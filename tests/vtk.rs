@@ -55,7 +55,8 @@ fn trajectory(out: &Path) -> HashMap<(u64, u64), Vec<f64>> {
 }
 
 /// The XML head of a frame (the appended block cut out) must parse.
-fn xml_head(path: &Path) -> String {
+/// Whether the file says it is zlib-compressed.
+fn xml_head(path: &Path) -> bool {
     let bytes = std::fs::read(path).unwrap();
     let mark = b"<AppendedData encoding=\"raw\">\n_";
     let at = bytes.windows(mark.len()).position(|w| w == mark).unwrap() + mark.len() - 1;
@@ -63,11 +64,7 @@ fn xml_head(path: &Path) -> String {
     head.push_str("\n</AppendedData>\n</VTKFile>\n");
     let doc =
         roxmltree::Document::parse(&head).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    assert_eq!(
-        doc.root_element().attribute("compressor"),
-        Some("vtkZLibDataCompressor")
-    );
-    head
+    doc.root_element().attribute("compressor") == Some("vtkZLibDataCompressor")
 }
 
 fn rot_x(q: [f64; 4]) -> [f64; 3] {
@@ -115,23 +112,26 @@ fn cell(v: &Vtp, name: &str) -> Vec<f64> {
         .to_f64()
 }
 
-#[test]
-fn every_frame_reads_back_with_its_fields_values_and_time() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = nine(dir.path(), &[]);
-    let traj = trajectory(&out);
-    let summary: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
-
-    // The collection: valid XML, one DataSet per 40000 steps, times step·dt.
+/// Check every frame of the series in `out` (`n` bodies of test case 1's
+/// fibre, a frame every `every` steps of `dt`) against `trajectory.csv`
+/// and the closed forms; the frames' files must say `compressed` or not.
+fn check_series(
+    out: &Path,
+    n: usize,
+    every: u64,
+    dt: f64,
+    compressed: bool,
+) -> Vec<(f64, PathBuf)> {
+    let traj = trajectory(out);
+    // The collection: valid XML, one DataSet per frame.
     let pvd_text = std::fs::read_to_string(out.join("fibres.pvd")).unwrap();
     let doc = roxmltree::Document::parse(&pvd_text).unwrap();
-    let sets: Vec<_> = doc
+    let sets = doc
         .descendants()
-        .filter(|n| n.has_tag_name("DataSet"))
-        .collect();
-    assert_eq!(sets.len(), 6, "steps 0, 40000, ..., 200000");
+        .filter(|x| x.has_tag_name("DataSet"))
+        .count();
     let frames = read_pvd(&out.join("fibres.pvd")).unwrap();
+    assert_eq!(sets, frames.len());
     // Fibre of test case 1 (docs/physics.md §6): D, L, ρ.
     let (d, l, rho) = (0.01f64, 0.025f64, 1100.0f64);
     let m = rho * std::f64::consts::PI * d * d * l / 4.0;
@@ -141,12 +141,12 @@ fn every_frame_reads_back_with_its_fields_values_and_time() {
         m * (3.0 * d * d / 4.0 + l * l) / 12.0,
     ];
     for (k, (t, file)) in frames.iter().enumerate() {
-        let step = 40000 * k as u64;
-        assert_eq!(*t, step as f64 * 1e-7, "frame {k}'s time is step·dt");
+        let step = every * k as u64;
+        assert_eq!(*t, step as f64 * dt, "frame {k}'s time is step·dt");
         assert_eq!(file, &out.join(format!("vtk/fibres_{step}.vtp")));
-        xml_head(file);
+        assert_eq!(xml_head(file), compressed, "{}", file.display());
         let v = read_vtp(file).unwrap();
-        assert_eq!((v.n_lines, v.n_points), (9, 18));
+        assert_eq!((v.n_lines, v.n_points), (n, 2 * n));
         assert_eq!(v.field("TimeValue").unwrap().to_f64(), vec![*t]);
         assert_eq!(v.field("step").unwrap().to_f64(), vec![step as f64]);
         let names: Vec<&str> = v.cells.iter().map(|a| a.name.as_str()).collect();
@@ -156,7 +156,7 @@ fn every_frame_reads_back_with_its_fields_values_and_time() {
             .collect();
         assert_eq!(names, want);
         for (a, (_, comps, _)) in v.cells.iter().zip(fibresim::output::vtk::CELL_ARRAYS) {
-            assert_eq!((a.components, a.tuples()), (comps, 9), "{}", a.name);
+            assert_eq!((a.components, a.tuples()), (comps, n), "{}", a.name);
         }
         assert_eq!(
             v.cell("quaternion").unwrap().component_names,
@@ -164,12 +164,12 @@ fn every_frame_reads_back_with_its_fields_values_and_time() {
         );
         assert_eq!(
             v.lines[0].to_f64(),
-            (0..18).map(f64::from).collect::<Vec<_>>(),
+            (0..2 * n as u32).map(f64::from).collect::<Vec<_>>(),
             "connectivity"
         );
         assert_eq!(
             v.lines[1].to_f64(),
-            (1..=9).map(|k| 2.0 * k as f64).collect::<Vec<_>>(),
+            (1..=n).map(|k| 2.0 * k as f64).collect::<Vec<_>>(),
             "offsets"
         );
         let pts = v.points.to_f64();
@@ -180,11 +180,14 @@ fn every_frame_reads_back_with_its_fields_values_and_time() {
         );
         let (om, omb) = (cell(&v, "omega"), cell(&v, "omega_body"));
         let (speed, ke) = (cell(&v, "speed"), cell(&v, "kinetic_energy"));
-        assert_eq!(cell(&v, "id"), (0..9).map(f64::from).collect::<Vec<_>>());
-        assert_eq!(cell(&v, "material"), vec![0.0; 9]);
-        assert_eq!(cell(&v, "diameter"), vec![d as f32 as f64; 9]);
-        assert_eq!(cell(&v, "length"), vec![l as f32 as f64; 9]);
-        for b in 0..9 {
+        assert_eq!(
+            cell(&v, "id"),
+            (0..n as u32).map(f64::from).collect::<Vec<_>>()
+        );
+        assert_eq!(cell(&v, "material"), vec![0.0; n]);
+        assert_eq!(cell(&v, "diameter"), vec![d as f32 as f64; n]);
+        assert_eq!(cell(&v, "length"), vec![l as f32 as f64; n]);
+        for b in 0..n {
             let s = &traj[&(step, b as u64)];
             let (x, q, vv, w) = (
                 [s[0], s[1], s[2]],
@@ -221,6 +224,18 @@ fn every_frame_reads_back_with_its_fields_values_and_time() {
             close32(ke[b], 0.5 * m * v2 + rot, "kinetic energy");
         }
     }
+    frames
+}
+
+#[test]
+fn every_frame_reads_back_with_its_fields_values_and_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = nine(dir.path(), &[]);
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    // Nine fibres: below 32 KiB of data, uncompressed.
+    let frames = check_series(&out, 9, 40000, 1e-7, false);
+    assert_eq!(frames.len(), 6, "steps 0, 40000, ..., 200000");
     // The last frame is the summary's final state.
     let last = read_vtp(&frames.last().unwrap().1).unwrap();
     let f0 = &summary["final"][0];
@@ -247,6 +262,40 @@ fn every_frame_reads_back_with_its_fields_values_and_time() {
             .count();
         assert_eq!(differ, 1, "an edge joins corners that differ on one axis");
     }
+}
+
+/// 343 fibres (a 7³ lattice of tilted, moving, spinning fibres in a box):
+/// over 32 KiB of data, so zlib-compressed frames, read back the same way.
+#[test]
+fn compressed_frames_of_a_lattice_read_back() {
+    let mut text = String::from(
+        "[simulation]\ndt = 1e-6\nt_end = 2e-5\n[box]\nmin = [0.0, 0.0, 0.0]\nmax = [0.28, 0.28, 0.28]\nyoung = 5e7\npoisson = 0.23\n[material.f]\ndensity = 1100.0\nyoung = 5e7\npoisson = 0.35\n",
+    );
+    for k in 0..343 {
+        let (i, j, l) = (k % 7, (k / 7) % 7, k / 49);
+        let c = |g: usize| 0.02 + 0.04 * g as f64;
+        let w = k as f64 * 0.37;
+        text += &format!(
+            "[[body]]\nshape = \"fibre\"\nmaterial = \"f\"\ndiameter = 0.01\nlength = 0.025\nposition = [{}, {}, {}]\naxis = [{}, {}, 1.0]\nvelocity = [{}, {}, 0.5]\nangular_velocity = [{}, 3.0, {}]\n",
+            c(i), c(j), c(l), w.cos(), w.sin(), 0.3 * w.sin(), -0.2, 40.0 * w.cos(), 10.0 * w.sin()
+        );
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("lattice.toml");
+    std::fs::write(&p, text).unwrap();
+    let out = dir.path().join("o");
+    ok(fibresim(&[
+        "run",
+        p.to_str().unwrap(),
+        "--vtk-every",
+        "5",
+        "--trajectory-every",
+        "5",
+        "-q",
+        "--out",
+        out.to_str().unwrap(),
+    ]));
+    assert_eq!(check_series(&out, 343, 5, 1e-6, true).len(), 5);
 }
 
 /// Contact counts: each frame's per-fibre counts against an independent
