@@ -7,7 +7,7 @@
 
 use super::file::{csv_err, not_open, CsvFile};
 use super::Row;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::math::{to_world, wxyz};
 use crate::output::checkpoint::bits;
 use crate::output::Checkpoint;
@@ -39,17 +39,7 @@ impl TrajectoryCsv {
 
 /// The trajectory cadence a checkpoint's run used, if it wrote one.
 pub fn cadence_in(c: &Checkpoint) -> Result<Option<u64>> {
-    if !c.observers.contains_key(TRAJECTORY_FILE) {
-        return Ok(None);
-    }
-    match c.observer_state(TRAJECTORY_FILE)?.as_slice() {
-        [e] if *e >= 1.0 && e.fract() == 0.0 => Ok(Some(*e as u64)),
-        _ => Err(Error::bad(
-            "checkpoint",
-            "observers",
-            "trajectory.csv needs its cadence (1 number)",
-        )),
-    }
+    c.cadence(TRAJECTORY_FILE)
 }
 
 impl Observer for TrajectoryCsv {

@@ -63,18 +63,7 @@ impl VtkSeries {
 
 /// The VTK cadence a checkpoint's run used, if it wrote a series.
 pub fn cadence_in(c: &Checkpoint) -> Result<Option<u64>> {
-    if !c.observers.contains_key(NAME) {
-        return Ok(None);
-    }
-    let s = c.observer_state(NAME)?;
-    match s.as_slice() {
-        [e] if *e >= 1.0 && e.fract() == 0.0 => Ok(Some(*e as u64)),
-        _ => Err(Error::bad(
-            "checkpoint",
-            "observers",
-            "vtk needs its cadence (1 number)",
-        )),
-    }
+    c.cadence(NAME)
 }
 
 impl Observer for VtkSeries {

@@ -42,29 +42,9 @@ impl Pvd {
 
     /// Continue a collection cut to `len` bytes (a checkpoint's length).
     pub fn reopen(&mut self, len: u64) -> Result<()> {
-        let path = self.path.clone();
-        let mut f = std::fs::OpenOptions::new()
-            .write(true)
-            .open(&path)
-            .map_err(|e| {
-                Error::bad(
-                    path.display().to_string(),
-                    "--resume",
-                    format!("the VTK collection the checkpoint continues cannot be opened ({e}); resume from the checkpoint in its own folder"),
-                )
-            })?;
-        let have = f.metadata().map_err(|e| Error::io(&path, e))?.len();
-        if have < len {
-            return Err(Error::bad(
-                path.display().to_string(),
-                "--resume",
-                format!("is {have} bytes, shorter than the {len} the checkpoint recorded: it was changed after the checkpoint; rerun from the start"),
-            ));
-        }
-        f.set_len(len).map_err(|e| Error::io(&path, e))?;
-        f.seek(SeekFrom::End(0))
-            .and_then(|_| f.write_all(TAIL.as_bytes()))
-            .map_err(|e| Error::io(&path, e))?;
+        let mut f = crate::output::file::reopen_cut(&self.path, len)?;
+        f.write_all(TAIL.as_bytes())
+            .map_err(|e| Error::io(&self.path, e))?;
         self.body_len = len;
         self.file = Some(f);
         Ok(())
