@@ -87,6 +87,12 @@ fn full_search(
 /// `n` fibres on a grid 0.04 m apart in a box of that pitch, fast random motions, no
 /// gravity: many fibre–fibre and wall contacts within 0.02 s.
 fn dense_scene(n: usize) -> Scene {
+    dense_scene_at(n, 0.04)
+}
+
+/// [`dense_scene`] with grid pitch `pitch` (≥ 0.027 m, the fibres' bounding
+/// diameter, so nothing overlaps at the start).
+fn dense_scene_at(n: usize, pitch: f64) -> Scene {
     let mut seed = 0x9e37_79b9_7f4a_7c15u64;
     let mut rnd = move || {
         seed ^= seed << 13;
@@ -95,13 +101,13 @@ fn dense_scene(n: usize) -> Scene {
         (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
     };
     let side = (n as f64).cbrt().ceil() as usize;
-    let edge = 0.04 * side as f64;
+    let edge = pitch * side as f64;
     let mut text = format!(
         "[simulation]\ndt = 1e-6\nt_end = 0.02\n[box]\nmin = [0.0, 0.0, 0.0]\nmax = [{edge}, {edge}, {edge}]\nyoung = 5e7\npoisson = 0.23\n",
     );
     for k in 0..n {
         let (i, j, l) = (k % side, (k / side) % side, k / (side * side));
-        let c = |g: usize| 0.02 + 0.04 * g as f64;
+        let c = |g: usize| 0.5 * pitch + pitch * g as f64;
         text += &format!(
             "[[body]]\nshape = \"fibre\"\ndiameter = 0.01\nlength = 0.025\ndensity = 1100.0\nyoung = 5e7\npoisson = 0.35\nposition = [{}, {}, {}]\naxis = [{}, {}, {}]\nvelocity = [{}, {}, {}]\nangular_velocity = [{}, {}, {}]\n",
             c(i), c(j), c(l),
@@ -163,8 +169,84 @@ fn neighbour_list_matches_a_full_search_all_pairs() {
     check(27);
 }
 
-/// Sort-and-sweep above 32 bodies.
+/// The grid above 32 bodies.
 #[test]
-fn neighbour_list_matches_a_full_search_sweep() {
+fn neighbour_list_matches_a_full_search_grid() {
     check(40);
+}
+
+/// The grid finds exactly the box pairs the sweep finds (itself checked
+/// against brute force in `tests/contact_geometry.rs`), on dense, sparse,
+/// elongated and degenerate sets of boxes.
+#[test]
+fn grid_pairs_equal_sweep_pairs() {
+    use fibresim::contact::broad::{grid_pairs, GridScratch};
+    use fibresim::contact::candidate_pairs;
+    let mut rng = common::Rng(0x2545_f491_4f6c_dd1d);
+    let mut scratch = GridScratch::default();
+    let cases: [(usize, DVec3, f64); 5] = [
+        (2000, DVec3::splat(0.3), 0.03),          // a filled box
+        (2000, DVec3::new(0.3, 0.3, 30.0), 0.03), // a tall, sparse column
+        (500, DVec3::splat(0.1), 0.1),            // boxes as wide as the region
+        (300, DVec3::new(5.0, 0.01, 0.01), 0.05), // along a line
+        (50, DVec3::ZERO, 0.02),                  // all at one point
+    ];
+    for (n, region, size) in cases {
+        let boxes: Vec<(DVec3, DVec3)> = (0..n)
+            .map(|_| {
+                let lo = DVec3::new(rng.next(), rng.next(), rng.next()) * region;
+                let ext = DVec3::new(rng.next(), rng.next(), rng.next()) * size;
+                (lo, lo + ext)
+            })
+            .collect();
+        let (mut sweep, mut grid) = (vec![], vec![]);
+        candidate_pairs(&boxes, &mut sweep);
+        grid_pairs(&boxes, &mut scratch, &mut grid);
+        assert_eq!(grid, sweep, "{n} boxes in {region}, size {size}");
+        assert!(!sweep.is_empty() || n < 2, "the case has pairs");
+    }
+}
+
+/// The parallel force stage (pair slots gathered per body in the serial
+/// order) gives the bits of the serial one: the same scene stepped on pools
+/// of 1 (serial path), 2 and 4 threads ends in the same states, forces and
+/// energies, and the forces equal a full search at every checked step.
+#[test]
+fn thread_count_changes_no_bit() {
+    let scene = scene_str(&common::packed_scene(6, 8, 8, 1e-3));
+    assert!(scene.bodies.len() >= fibresim::contact::stage::PARALLEL_MIN_BODIES);
+    let steps = 600;
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut w = World::new(&scene);
+            let mut touching = 0;
+            let mut counters = KernelCounters::default();
+            for k in 0..steps {
+                w.step::<Pcdm>().expect("stable");
+                touching += w.contact_stats().unwrap().touching;
+                if threads == 2 && k % 300 == 299 {
+                    let (f, t, e) = full_search(&scene, &w.states, &mut counters);
+                    assert!(f == w.force && t == w.torque, "forces at step {}", w.step);
+                    assert_eq!(e.to_bits(), w.elastic().to_bits());
+                }
+            }
+            (w.states.clone(), w.force.clone(), w.ledger, touching)
+        })
+    };
+    let one = run(1);
+    assert!(
+        one.3 > 100 * steps / 10,
+        "the scene has live contacts: {}",
+        one.3
+    );
+    for threads in [2, 4] {
+        let other = run(threads);
+        assert!(one.0 == other.0, "states with {threads} threads");
+        assert!(one.1 == other.1, "forces with {threads} threads");
+        assert_eq!(one.2, other.2, "ledger with {threads} threads");
+    }
 }

@@ -260,3 +260,98 @@ fn sigint_writes_a_checkpoint_and_resume_completes_identically() {
     let s: serde_json::Value = serde_json::from_slice(&read(&cut.join("summary.json"))).unwrap();
     assert_eq!(s["steps"].as_u64(), Some(steps));
 }
+
+/// A dense scene with live contacts on two threads (above the parallel
+/// threshold): the split run's bytes equal the whole run's, and the
+/// checkpoint's binary states take at most 200 bytes per fibre.
+#[test]
+fn resume_of_a_dense_scene_gives_the_same_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("packed.toml");
+    std::fs::write(&scene, common::packed_scene(6, 8, 8, 6e-4)).unwrap();
+    let scene = scene.to_str().unwrap();
+    let (whole, split) = (dir.path().join("w"), dir.path().join("s"));
+    let t = ["--threads", "2", "-q", "--every", "50"];
+    let mut a = vec!["run", scene, "--out", whole.to_str().unwrap()];
+    a.extend(t);
+    ok(fibresim(&a));
+    let mut b = vec![
+        "run",
+        scene,
+        "--out",
+        split.to_str().unwrap(),
+        "--t-end",
+        "3e-4",
+        "--checkpoint-every",
+        "300",
+    ];
+    b.extend(t);
+    ok(fibresim(&b));
+    let ckpt = split.join("checkpoint.json");
+    let states = std::fs::metadata(split.join("checkpoint.states"))
+        .unwrap()
+        .len();
+    assert!(
+        states <= 200 * 384,
+        "{states} bytes of states for 384 fibres"
+    );
+    ok(fibresim(&[
+        "run",
+        "--resume",
+        ckpt.to_str().unwrap(),
+        "--t-end",
+        "6e-4",
+        "--threads",
+        "2",
+        "-q",
+    ]));
+    assert_eq!(
+        read(&whole.join("energy.csv")),
+        read(&split.join("energy.csv"))
+    );
+    let strip = |p: &Path| -> String {
+        String::from_utf8(read(p))
+            .unwrap()
+            .lines()
+            .filter(|l| !l.contains("wall_s") && !l.contains("ns_per_body_step"))
+            .collect()
+    };
+    assert_eq!(
+        strip(&whole.join("summary.json")),
+        strip(&split.join("summary.json"))
+    );
+}
+
+/// A states file that is not the checkpoint's (a byte changed) is refused
+/// with exit 2, naming it, before anything runs.
+#[test]
+fn a_tampered_states_file_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("s.toml");
+    std::fs::write(&scene, DROP).unwrap();
+    let out = dir.path().join("o");
+    ok(fibresim(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--t-end",
+        "0.001",
+        "--checkpoint-every",
+        "500",
+        "-q",
+        "--out",
+        out.to_str().unwrap(),
+    ]));
+    let states = out.join("checkpoint.states");
+    let mut bytes = read(&states);
+    let last = bytes.len() - 1;
+    bytes[last] ^= 1;
+    std::fs::write(&states, bytes).unwrap();
+    let ckpt = out.join("checkpoint.json");
+    let o = fibresim(&["run", "--resume", ckpt.to_str().unwrap(), "-q"]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("checkpoint.states") && err.contains("does not belong"),
+        "{err}"
+    );
+}

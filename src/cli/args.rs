@@ -32,6 +32,9 @@ Exit codes:
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
+    /// Worker threads [default: RAYON_NUM_THREADS, else the available cores]. Scenes of fewer than 256 bodies run on one thread; results are the same bytes whatever the count.
+    #[arg(long, global = true, value_name = "N")]
+    pub threads: Option<usize>,
 }
 
 #[derive(Debug, Subcommand)]

@@ -14,6 +14,9 @@ use std::io::Write;
 
 /// Execute one command.
 pub fn execute(cli: Cli) -> Result<()> {
+    if let Some(n) = cli.threads {
+        threads(n)?;
+    }
     match cli.command {
         Command::Run(args) => run(args.plan()?),
         Command::Check(args) => {
@@ -71,6 +74,22 @@ pub fn execute(cli: Cli) -> Result<()> {
             Ok(())
         }
     }
+}
+
+/// Size the thread pool (`--threads N`); without the flag rayon's default
+/// holds: `RAYON_NUM_THREADS`, else the available cores.
+fn threads(n: usize) -> Result<()> {
+    if n == 0 {
+        return Err(Error::bad(
+            "command line",
+            "--threads",
+            "must be >= 1 (1 runs everything on one thread)",
+        ));
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(n)
+        .build_global()
+        .map_err(|e| Error::bad("command line", "--threads", e.to_string()))
 }
 
 /// Write `text` to stdout. A closed pipe (`fibresim rotators | head`) is

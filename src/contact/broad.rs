@@ -1,10 +1,15 @@
 //! Broad phase: candidate pairs from axis-aligned bounding boxes.
 //!
-//! Brute force for `n ≤ BRUTE_FORCE_MAX`, otherwise sort-and-sweep along the
-//! axis of largest centre spread (O(N log N + k) for k overlaps along it).
-//! Output is always sorted `(i, j)` with `i < j`, so contact order (and hence
-//! floating-point summation order) is deterministic.
+//! [`candidate_pairs`]: brute force for `n ≤ BRUTE_FORCE_MAX`, otherwise
+//! sort-and-sweep along the axis of largest centre spread. [`grid_pairs`]: a
+//! uniform grid of cells as wide as the largest box, O(N) for boxes of
+//! similar size (the sweep is O(N^{5/3}) in a filled box); the neighbour list
+//! uses it above `BRUTE_FORCE_MAX` and keeps only the pairs whose axis
+//! segments come within reach. Output is always sorted `(i, j)` with `i < j`,
+//! so contact order (and hence floating-point summation order) is
+//! deterministic.
 
+use super::fibre_fibre::segment_closest_params;
 use super::{FibreGeom, Wall};
 use crate::body::Shape;
 use glam::{DQuat, DVec3};
@@ -103,6 +108,95 @@ pub(crate) fn candidate_pairs_with(
     out.sort_unstable();
 }
 
+/// All pairs `(i, j)`, `i < j`, whose closed boxes overlap, sorted (the same
+/// set as [`candidate_pairs`]), by a uniform grid: boxes are binned by the
+/// cell of their lower corner, cells as wide as the widest box, so two
+/// overlapping boxes sit in the same or adjacent cells along each axis.
+/// Cells are found by binary search in the corners sorted by cell, so an
+/// empty region costs nothing.
+pub fn grid_pairs(aabbs: &[(DVec3, DVec3)], scratch: &mut GridScratch, out: &mut Vec<(u32, u32)>) {
+    out.clear();
+    let n = aabbs.len();
+    if n < 2 {
+        return;
+    }
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    let mut width = 0.0f64;
+    for (a, b) in aabbs {
+        lo = lo.min(*a);
+        hi = hi.max(*a);
+        width = width.max((*b - *a).max_element());
+    }
+    // A cell a little wider than the widest box; a degenerate (point) set
+    // gets one cell.
+    let cell = if width > 0.0 {
+        width * (1.0 + 1e-9)
+    } else {
+        1.0
+    };
+    let dims = ((hi - lo) / cell).floor() + DVec3::ONE;
+    if !dims.is_finite() || dims.x * dims.y * dims.z >= 2f64.powi(62) {
+        // Boxes too spread for a grid (or not finite): the sweep handles it.
+        let mut order = std::mem::take(&mut scratch.order);
+        candidate_pairs_with(aabbs, &mut order, out);
+        scratch.order = order;
+        return;
+    }
+    let (ny, nz) = (dims.y as u64, dims.z as u64);
+    let coords = |p: DVec3| -> (u64, u64, u64) {
+        let c = ((p - lo) / cell).floor();
+        (c.x as u64, c.y as u64, c.z as u64)
+    };
+    let key = |(x, y, z): (u64, u64, u64)| (x * ny + y) * nz + z;
+    scratch.keyed.clear();
+    scratch.keyed.extend(
+        aabbs
+            .iter()
+            .enumerate()
+            .map(|(i, b)| (key(coords(b.0)), i as u32)),
+    );
+    scratch.keyed.sort_unstable();
+    let keyed = &scratch.keyed;
+    for &(_, i) in keyed {
+        let bi = &aabbs[i as usize];
+        let (x, y, z) = coords(bi.0);
+        for dx in [-1i64, 0, 1] {
+            let cx = x as i64 + dx;
+            if cx < 0 || cx >= dims.x as i64 {
+                continue;
+            }
+            for dy in [-1i64, 0, 1] {
+                let cy = y as i64 + dy;
+                if cy < 0 || cy >= ny as i64 {
+                    continue;
+                }
+                // The z-column of cells cz − 1 ..= cz + 1 is contiguous in key order.
+                let column = (cx as u64 * ny + cy as u64) * nz;
+                let first = column + z.saturating_sub(1);
+                let last = column + (z + 1).min(nz - 1);
+                let start = keyed.partition_point(|&(k, _)| k < first);
+                for &(k, j) in &keyed[start..] {
+                    if k > last {
+                        break;
+                    }
+                    if j > i && overlaps(bi, &aabbs[j as usize]) {
+                        out.push((i, j));
+                    }
+                }
+            }
+        }
+    }
+    out.sort_unstable();
+}
+
+/// Buffers of [`grid_pairs`], kept between builds.
+#[derive(Debug, Clone, Default)]
+pub struct GridScratch {
+    keyed: Vec<(u64, u32)>,
+    order: Vec<u32>,
+}
+
 /// Candidate contacts kept between steps: a neighbour list with a skin (the
 /// `neighbor skin` of LAMMPS and LIGGGHTS), rebuilt only when some fibre may
 /// have moved far enough to reach a pair or a wall it was not listed with.
@@ -110,9 +204,10 @@ pub(crate) fn candidate_pairs_with(
 /// Why it is exact: a flat-ended cylinder lies inside the capsule of its axis
 /// segment, and when both segment end points move by at most `d` every point
 /// of the capsule moves by at most `d` (the segment moves by interpolation).
-/// The list holds every pair and wall whose capsule boxes, grown by half the
-/// skin, touched at the last build; while no end point has moved more than
-/// half the skin since, every touching pair and wall is in it. The kernels
+/// The list holds every wall whose capsule box, and every pair whose
+/// capsules, grown by half the skin each, touched at the last build; while
+/// no end point has moved more than half the skin since, every touching pair
+/// and wall is in it. The kernels
 /// then see the same candidates, in the same order, as a full search would
 /// give them (the others have no contact), so forces are bit-identical
 /// (`tests/broad_phase.rs`).
@@ -127,7 +222,7 @@ pub(crate) fn candidate_pairs_with(
 pub(crate) struct NeighbourList {
     half_skin: f64,
     /// Centre, orientation and half length of each fibre at the last build.
-    built: Vec<(DVec3, DQuat, f64)>,
+    pub(crate) built: Vec<(DVec3, DQuat, f64)>,
     /// `(body, wall)` candidates, body-major, walls in their order.
     pub(crate) walls: Vec<(u32, u32)>,
     /// `(i, j)` candidates, `i < j`, sorted.
@@ -136,6 +231,7 @@ pub(crate) struct NeighbourList {
     pub(crate) active: Vec<u32>,
     boxes: Vec<(DVec3, DVec3)>,
     order: Vec<u32>,
+    grid: GridScratch,
     /// Number of builds so far (diagnostics and tests).
     pub(crate) builds: u64,
 }
@@ -151,6 +247,7 @@ impl NeighbourList {
             active: vec![],
             boxes: vec![],
             order: vec![],
+            grid: GridScratch::default(),
             builds: 0,
         }
     }
@@ -166,6 +263,20 @@ impl NeighbourList {
                 // costs a rebuild.
                 x.distance_squared(x0) + 4.0 * h * h * (q - q0).length_squared() <= limit2
             })
+    }
+
+    /// [`Self::still_valid`] over `states`, on the thread pool.
+    pub(crate) fn still_valid_par(&self, states: &[crate::body::BodyState]) -> bool {
+        use rayon::prelude::*;
+        let limit2 = 0.5 * self.half_skin * self.half_skin;
+        self.built.len() == states.len()
+            && states
+                .par_iter()
+                .zip(self.built.par_iter())
+                .all(|(s, &(x0, q0, h))| {
+                    s.x.distance_squared(x0) + 4.0 * h * h * (s.rot.q - q0).length_squared()
+                        <= limit2
+                })
     }
 
     /// Build the list for the fibres `geoms` at orientations `rotations`.
@@ -185,14 +296,16 @@ impl NeighbourList {
                 .zip(rotations)
                 .map(|(g, q)| (g.centre, q, g.half_length)),
         );
-        self.boxes.clear();
-        self.boxes.extend(geoms.iter().map(|g| {
+        // The boxes live only through the build (memory per fibre).
+        let mut boxes = std::mem::take(&mut self.boxes);
+        boxes.clear();
+        boxes.extend(geoms.iter().map(|g| {
             let (a, b) = segment_ends(g);
             let grow = DVec3::splat(g.radius + self.half_skin);
             (a.min(b) - grow, a.max(b) + grow)
         }));
         self.walls.clear();
-        for (i, (lo, hi)) in self.boxes.iter().enumerate() {
+        for (i, (lo, hi)) in boxes.iter().enumerate() {
             for (k, w) in walls.iter().enumerate() {
                 // Axis-aligned inward normal: the box corner nearest the wall.
                 let reach = w.normal.dot(if w.normal.max_element() > 0.0 {
@@ -205,7 +318,28 @@ impl NeighbourList {
                 }
             }
         }
-        candidate_pairs_with(&self.boxes, &mut self.order, &mut self.pairs);
+        if geoms.len() <= BRUTE_FORCE_MAX {
+            candidate_pairs_with(&boxes, &mut self.order, &mut self.pairs);
+            self.boxes = boxes;
+        } else {
+            grid_pairs(&boxes, &mut self.grid, &mut self.pairs);
+            self.grid = GridScratch::default();
+        }
+        // Only pairs whose capsules, grown by half the skin each, touch:
+        // the boxes of long fibres overlap far more often than the fibres
+        // can (a margin covers the rounding of the closest points).
+        let half_skin = self.half_skin;
+        self.pairs.retain(|&(i, j)| {
+            let (a, b) = (&geoms[i as usize], &geoms[j as usize]);
+            let (s, t) = segment_closest_params(a, b);
+            let gap = (a.centre + s * a.axis).distance(b.centre + t * b.axis);
+            let reach = a.radius + b.radius;
+            gap <= reach + 2.0 * half_skin + 1e-6 * reach
+        });
+        if geoms.len() > BRUTE_FORCE_MAX {
+            // The box pairs outnumber the kept ones several times over.
+            self.pairs.shrink_to_fit();
+        }
         self.active.clear();
         self.active.extend(self.walls.iter().map(|&(i, _)| i));
         self.active

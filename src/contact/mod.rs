@@ -20,6 +20,7 @@ pub mod fibre_fibre;
 pub mod fibre_wall;
 pub mod hertz;
 mod laws;
+pub(crate) mod slots;
 pub mod stage;
 pub mod walls;
 
@@ -90,4 +91,15 @@ pub struct KernelCounters {
     /// parry "no contact" verdicts that no separating axis confirmed (parry
     /// is still followed; zero in the tests and in test case 2).
     pub parry_unconfirmed: u64,
+}
+
+impl std::ops::Add for KernelCounters {
+    type Output = Self;
+    fn add(self, o: Self) -> Self {
+        KernelCounters {
+            parry_calls: self.parry_calls + o.parry_calls,
+            parry_rejects: self.parry_rejects + o.parry_rejects,
+            parry_unconfirmed: self.parry_unconfirmed + o.parry_unconfirmed,
+        }
+    }
 }

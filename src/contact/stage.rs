@@ -9,6 +9,7 @@
 
 use super::broad::NeighbourList;
 use super::laws::LawTable;
+use super::slots::Slots;
 use super::{
     box_walls, contacts, Collider, ContactPoint, FibreGeom, HertzLaw, KernelCounters, Wall, Walls,
 };
@@ -39,6 +40,8 @@ pub struct ContactStage {
     neighbours: NeighbourList,
     points: Vec<ContactPoint>,
     counters: KernelCounters,
+    /// The parallel path's buffers.
+    slots: Slots,
     /// What the last [`ContactStage::compute`] saw.
     pub stats: ContactStats,
 }
@@ -75,6 +78,7 @@ impl ContactStage {
             neighbours: NeighbourList::new(SKIN_PER_DIAMETER * thinnest),
             points: vec![],
             counters: KernelCounters::default(),
+            slots: Slots::default(),
             stats: ContactStats::default(),
         }
     }
@@ -130,6 +134,9 @@ impl ContactStage {
         force: &mut [DVec3],
         torque: &mut [DVec3],
     ) {
+        if parallel(bodies.len()) {
+            return self.compute_parallel(bodies, states, force, torque);
+        }
         force.fill(DVec3::ZERO);
         torque.fill(DVec3::ZERO);
         let mut stats = ContactStats::default();
@@ -201,6 +208,51 @@ impl ContactStage {
     }
 }
 
+/// Scenes of at least this many bodies compute their forces on the thread
+/// pool (when it has more than one thread); smaller ones stay on one
+/// thread, where the pool's overhead would cost more than it saves. Both
+/// paths give the same bits.
+pub const PARALLEL_MIN_BODIES: usize = 256;
+
+/// Whether a scene of `n` bodies runs its stages on the thread pool.
+#[inline]
+pub fn parallel(n: usize) -> bool {
+    n >= PARALLEL_MIN_BODIES && rayon::current_num_threads() > 1
+}
+
+impl ContactStage {
+    /// [`ContactStage::compute`] on the thread pool ([`Slots`]).
+    fn compute_parallel(
+        &mut self,
+        bodies: &[Body],
+        states: &[BodyState],
+        force: &mut [DVec3],
+        torque: &mut [DVec3],
+    ) {
+        use rayon::prelude::*;
+        self.geoms.resize(bodies.len(), FibreGeom::default());
+        let valid =
+            self.neighbours.built.len() == states.len() && self.neighbours.still_valid_par(states);
+        self.geoms
+            .par_iter_mut()
+            .zip(bodies.par_iter().zip(states.par_iter()))
+            .for_each(|(g, (b, s))| *g = geom(b, s));
+        if !valid {
+            let rotations = states.iter().map(|s| s.rot.q);
+            self.neighbours.build(&self.geoms, rotations, &self.walls);
+        }
+        self.stats = self.slots.compute(
+            &self.neighbours,
+            &self.geoms,
+            &self.walls,
+            &self.laws,
+            force,
+            torque,
+            &mut self.counters,
+        );
+    }
+}
+
 /// Hertz force of each point on body A (and the reaction on B, if a body).
 #[inline]
 fn apply(
@@ -236,7 +288,7 @@ fn apply(
 
 impl ContactStats {
     #[inline]
-    fn note_overlap(&mut self, ratio: f64, body: usize) {
+    pub(crate) fn note_overlap(&mut self, ratio: f64, body: usize) {
         if ratio > self.max_overlap_ratio {
             self.max_overlap_ratio = ratio;
             self.max_overlap_body = body;

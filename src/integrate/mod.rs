@@ -2,6 +2,7 @@
 //! ([`scheme`], [`step`]), translation by velocity Verlet ([`verlet`]) and the
 //! quaternion rotators ([`rotate`]).
 
+mod parallel;
 pub mod rotate;
 pub mod scheme;
 pub mod step;

@@ -120,6 +120,10 @@ impl<'s> World<'s> {
     /// `[t_n + start·δt, +h·δt]`.
     #[inline]
     fn open<R: Rotator>(&mut self, start: f64, h: f64) -> Result<(), Box<Diagnosis>> {
+        if !R::MAY_FAULT && crate::contact::stage::parallel(self.states.len()) {
+            self.open_par::<R>(start, h);
+            return Ok(());
+        }
         let scene = self.scene;
         let dt = h * scene.sim.dt();
         let t = (self.step as f64 + start) * scene.sim.dt();
@@ -162,6 +166,9 @@ impl<'s> World<'s> {
     /// passed it.
     #[inline]
     fn close<R: Rotator>(&mut self, end: f64, h: f64, last: bool) -> bool {
+        if crate::contact::stage::parallel(self.states.len()) {
+            return self.close_par::<R>(end, h, last);
+        }
         let scene = self.scene;
         let dt = h * scene.sim.dt();
         let t_end = (self.step as f64 + end) * scene.sim.dt();
@@ -306,7 +313,7 @@ impl<'s> World<'s> {
 /// non-finite (`g·x` is computed even for `g = 0`, and `0·∞` is NaN), which
 /// [`World::scene_is_sound`] rejects; the slow path then names the body.
 #[inline]
-fn body_is_sound(s: &BodyState) -> bool {
+pub(super) fn body_is_sound(s: &BodyState) -> bool {
     const NORM2_LO: f64 = (1.0 - QUAT_NORM_TOLERANCE) * (1.0 - QUAT_NORM_TOLERANCE);
     const NORM2_HI: f64 = (1.0 + QUAT_NORM_TOLERANCE) * (1.0 + QUAT_NORM_TOLERANCE);
     (NORM2_LO..=NORM2_HI).contains(&s.rot.q.length_squared())
@@ -316,7 +323,7 @@ fn body_is_sound(s: &BodyState) -> bool {
 /// if any, evaluated there, plus the latest computed contact torque
 /// (docs/physics.md §4).
 #[inline]
-fn torque_source(
+pub(super) fn torque_source(
     prescribed: Option<&PrescribedTorque>,
     contact: DVec3,
 ) -> impl Fn(f64) -> DVec3 + '_ {

@@ -6,20 +6,19 @@
 //! resumed run. Each observer records its output files with their lengths
 //! (cut back to them on resume) and its own state, by name.
 
-use crate::body::{BodyState, RotState};
+use crate::body::BodyState;
 use crate::error::{Error, Result};
 use crate::integrate::rotate::Rotator;
 use crate::integrate::step::World;
 use crate::run::observer::Observer;
 use crate::run::stats::RunStats;
 use crate::scenario::Scene;
-use glam::{DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// The format this version writes and reads.
-pub const FORMAT: &str = "fibresim-checkpoint-2";
+pub const FORMAT: &str = "fibresim-checkpoint-3";
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
 /// A checkpoint (`checkpoint.json`).
@@ -42,12 +41,23 @@ pub struct Checkpoint {
     pub step: u64,
     /// The time of `step`, s (informative).
     pub t: f64,
-    /// Global body ids, in the order of `states`.
+    /// The states file beside this one ([`states`]): every body's id and
+    /// state, and the rotator's per-body state, as raw bits.
+    pub states_file: String,
+    /// Its length in bytes and its 64-bit FNV-1a hash (hex): a states file
+    /// from another checkpoint, or a torn one, is refused.
+    pub states_bytes: u64,
+    /// (See `states_bytes`.)
+    pub states_fnv: String,
+    /// Global body ids, in the order of `states` (in the states file).
+    #[serde(skip)]
     pub ids: Vec<u64>,
-    /// Per body: x, v, q (w, x, y, z), ω_b, bits.
-    pub states: Vec<Vec<String>>,
-    /// The rotator's per-body auxiliary state, flat, bits.
-    pub aux: Vec<String>,
+    /// Every body's state (in the states file).
+    #[serde(skip)]
+    pub states: Vec<BodyState>,
+    /// The rotator's per-body auxiliary state, flat (in the states file).
+    #[serde(skip)]
+    pub aux: Vec<f64>,
     /// [`RunStats::to_array`], bits.
     pub run_stats: Vec<String>,
     /// Each output file by name, with its length at the checkpoint.
@@ -76,36 +86,89 @@ fn unbits_all(v: &[String], what: &str) -> Result<Vec<f64>> {
     v.iter().map(|s| unbits(s, what)).collect()
 }
 
-/// A body's state as 13 bit patterns.
-pub fn state_bits(s: &BodyState) -> Vec<String> {
-    let q = s.rot.q;
-    [s.x.to_array(), s.v.to_array()]
-        .concat()
-        .into_iter()
-        .chain([q.w, q.x, q.y, q.z])
-        .chain(s.rot.omega_b.to_array())
-        .map(bits)
-        .collect()
-}
+/// The binary states file of a checkpoint (`checkpoint.states`): the magic
+/// `FIBRESIM`, then little-endian `u64` body count and `u64` doubles of
+/// rotator state per body, then per body its `u64` id and 13 `f64` (x, v,
+/// q as w x y z, ω_b), then the rotator state. 112 bytes per fibre for the
+/// shipped rotators; floats are their exact bits.
+pub mod states {
+    use crate::body::{BodyState, RotState};
+    use glam::{DQuat, DVec3};
 
-/// A body's state from its 13 bit patterns.
-pub fn state_from_bits(v: &[String]) -> Result<BodyState> {
-    if v.len() != 13 {
-        return Err(Error::bad(
-            "checkpoint",
-            "states",
-            "each body needs 13 numbers",
-        ));
+    /// The first bytes of a states file.
+    pub const MAGIC: &[u8; 8] = b"FIBRESIM";
+
+    /// 64-bit FNV-1a of `bytes`.
+    pub fn fnv(bytes: &[u8]) -> u64 {
+        let mut h = 0xcbf2_9ce4_8422_2325u64;
+        for &b in bytes {
+            h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+        }
+        h
     }
-    let f = unbits_all(v, "states")?;
-    Ok(BodyState {
-        x: DVec3::new(f[0], f[1], f[2]),
-        v: DVec3::new(f[3], f[4], f[5]),
-        rot: RotState {
-            q: DQuat::from_xyzw(f[7], f[8], f[9], f[6]),
-            omega_b: DVec3::new(f[10], f[11], f[12]),
-        },
-    })
+
+    /// The file's bytes.
+    pub fn encode(ids: &[u64], states: &[BodyState], aux: &[f64]) -> Vec<u8> {
+        let n = states.len();
+        let per = aux.len().checked_div(n).unwrap_or(0);
+        let mut out = Vec::with_capacity(24 + n * 112 + aux.len() * 8);
+        out.extend_from_slice(MAGIC);
+        out.extend_from_slice(&(n as u64).to_le_bytes());
+        out.extend_from_slice(&(per as u64).to_le_bytes());
+        for (&id, s) in ids.iter().zip(states) {
+            out.extend_from_slice(&id.to_le_bytes());
+            let q = s.rot.q;
+            let w = s.rot.omega_b;
+            for x in [
+                s.x.x, s.x.y, s.x.z, s.v.x, s.v.y, s.v.z, q.w, q.x, q.y, q.z, w.x, w.y, w.z,
+            ] {
+                out.extend_from_slice(&x.to_bits().to_le_bytes());
+            }
+        }
+        for &a in aux {
+            out.extend_from_slice(&a.to_bits().to_le_bytes());
+        }
+        out
+    }
+
+    /// What a states file holds: ids, states, rotator state.
+    pub type Decoded = (Vec<u64>, Vec<BodyState>, Vec<f64>);
+
+    /// The ids, states and rotator state of a file's bytes, or what is wrong.
+    pub fn decode(b: &[u8]) -> Result<Decoded, String> {
+        let word = |at: usize| -> Result<u64, String> {
+            b.get(at..at + 8)
+                .map(|w| u64::from_le_bytes(w.try_into().expect("8 bytes")))
+                .ok_or_else(|| "the file is truncated".to_string())
+        };
+        if b.get(..8) != Some(&MAGIC[..]) {
+            return Err("not a fibresim states file".into());
+        }
+        let n = word(8)? as usize;
+        let per = word(16)? as usize;
+        let want = 24 + n.saturating_mul(112) + n.saturating_mul(per).saturating_mul(8);
+        if b.len() != want {
+            return Err(format!("{} bytes, expected {want} for {n} bodies", b.len()));
+        }
+        let f = |at: usize| f64::from_bits(word(at).expect("length checked"));
+        let mut ids = Vec::with_capacity(n);
+        let mut states = Vec::with_capacity(n);
+        for k in 0..n {
+            let at = 24 + k * 112;
+            ids.push(word(at)?);
+            let v = |i: usize| f(at + 8 + 8 * i);
+            states.push(BodyState {
+                x: DVec3::new(v(0), v(1), v(2)),
+                v: DVec3::new(v(3), v(4), v(5)),
+                rot: RotState {
+                    q: DQuat::from_xyzw(v(7), v(8), v(9), v(6)),
+                    omega_b: DVec3::new(v(10), v(11), v(12)),
+                },
+            });
+        }
+        let aux = (0..n * per).map(|i| f(24 + n * 112 + 8 * i)).collect();
+        Ok((ids, states, aux))
+    }
 }
 
 impl Checkpoint {
@@ -125,25 +188,39 @@ impl Checkpoint {
             ],
             step: w.step,
             t: w.time(),
+            states_file: String::new(),
+            states_bytes: 0,
+            states_fnv: String::new(),
             ids: scene.ids.clone(),
-            states: w.states.iter().map(state_bits).collect(),
-            aux: w.aux.iter().copied().map(bits).collect(),
+            states: w.states.clone(),
+            aux: w.aux.clone(),
             run_stats: stats.to_array().map(bits).to_vec(),
             outputs: BTreeMap::new(),
             observers: BTreeMap::new(),
         }
     }
 
-    /// Write atomically (temporary file, then rename), so an interrupt while
-    /// writing never leaves a torn checkpoint.
-    pub fn write(&self, path: &Path) -> Result<()> {
+    /// Write the states file and then `path` (each to a temporary file,
+    /// then renamed), so an interrupt while writing never leaves a torn
+    /// checkpoint: a states file without its JSON is refused by its hash.
+    pub fn write(&mut self, path: &Path) -> Result<()> {
+        let states_path = path.with_extension("states");
+        let bytes = states::encode(&self.ids, &self.states, &self.aux);
+        self.states_file = states_path
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        self.states_bytes = bytes.len() as u64;
+        self.states_fnv = format!("{:016x}", states::fnv(&bytes));
+        let tmp_states = path.with_extension("states.tmp");
+        std::fs::write(&tmp_states, &bytes).map_err(|e| Error::io(&tmp_states, e))?;
         let tmp = path.with_extension("json.tmp");
         let text = serde_json::to_string_pretty(self).expect("checkpoint serialises");
         std::fs::write(&tmp, text).map_err(|e| Error::io(&tmp, e))?;
+        std::fs::rename(&tmp_states, &states_path).map_err(|e| Error::io(&states_path, e))?;
         std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
     }
 
-    /// Read and check a checkpoint file.
+    /// Read and check a checkpoint file and its states file.
     pub fn read(path: &Path) -> Result<Self> {
         let file = path.display().to_string();
         let text = std::fs::read_to_string(path).map_err(|e| {
@@ -164,13 +241,34 @@ impl Checkpoint {
                 format!("expected `{FORMAT}`, found `{f}`: this checkpoint was written by another version of fibresim; rerun from the start"),
             ));
         }
-        serde_json::from_str(&text).map_err(|e| {
+        let mut c: Checkpoint = serde_json::from_str(&text).map_err(|e| {
             Error::bad(
                 &file,
                 "--resume",
                 format!("not a fibresim checkpoint: {e}; give the checkpoint.json a run wrote"),
             )
-        })
+        })?;
+        let states_path = path.with_file_name(&c.states_file);
+        let where_ = states_path.display().to_string();
+        let bytes = std::fs::read(&states_path).map_err(|e| {
+            Error::bad(
+                &where_,
+                "states_file",
+                format!("cannot read the checkpoint's states: {e}; keep checkpoint.states beside checkpoint.json"),
+            )
+        })?;
+        if bytes.len() as u64 != c.states_bytes
+            || format!("{:016x}", states::fnv(&bytes)) != c.states_fnv
+        {
+            return Err(Error::bad(
+                &where_,
+                "states_file",
+                "does not belong to this checkpoint (length or hash differs): it was written by another checkpoint, or the write was interrupted; resume from a complete checkpoint",
+            ));
+        }
+        (c.ids, c.states, c.aux) =
+            states::decode(&bytes).map_err(|e| Error::bad(&where_, "states_file", e))?;
+        Ok(c)
     }
 
     /// The recorded length of output `name`, or a bad-input error.
@@ -230,19 +328,13 @@ pub fn restore(
             "does not match its own scenario",
         ));
     }
-    let states = c
-        .states
-        .iter()
-        .map(|s| state_from_bits(s))
-        .collect::<Result<Vec<_>>>()?;
-    let aux = unbits_all(&c.aux, "aux")?;
-    if aux.len() != aux_len * n {
+    if c.aux.len() != aux_len * n {
         return Err(Error::bad(
             "checkpoint",
             "aux",
             format!(
                 "has {} numbers; rotator `{}` keeps {aux_len} per body",
-                aux.len(),
+                c.aux.len(),
                 c.rotator
             ),
         ));
@@ -251,7 +343,7 @@ pub fn restore(
     let stats: [f64; 11] = s
         .try_into()
         .map_err(|_| Error::bad("checkpoint", "run_stats", "needs 11 numbers"))?;
-    Ok((states, aux, RunStats::from_array(stats)))
+    Ok((c.states.clone(), c.aux.clone(), RunStats::from_array(stats)))
 }
 
 /// File name of the checkpoint inside the output folder.

@@ -174,17 +174,13 @@ fn materials_of(v: &Vtp) -> Vec<String> {
 fn checkpoint(path: &Path) -> Result<Frame> {
     let c = Checkpoint::read(path)?;
     let scene = crate::run::scene_from_checkpoint(&c, None)?;
-    let states = c
-        .states
-        .iter()
-        .map(|s| crate::output::checkpoint::state_from_bits(s))
-        .collect::<Result<Vec<_>>>()?;
-    if states.len() != scene.bodies.len() {
+    let states = &c.states;
+    if states.len() != scene.bodies.len() || c.ids != scene.ids {
         return Err(bad(path, "its states do not match its own scenario"));
     }
     Ok(Frame::of_states(
         &scene,
-        &states,
+        states,
         c.step,
         c.step as f64 * scene.sim.dt(),
     ))

@@ -170,6 +170,11 @@ pub trait Rotator {
     /// Per-body state kept between steps.
     type Aux: AuxState;
 
+    /// Whether `advance` can refuse a step ([`RotatorFault`]). The step then
+    /// stops at the first refusing body with the later bodies untouched, so
+    /// its opening stage stays on one thread.
+    const MAY_FAULT: bool = false;
+
     /// The auxiliary state of a body at the start of a run.
     #[inline]
     fn start(_rot: &RotState, _inertia: &Inertia) -> Self::Aux {

@@ -22,6 +22,8 @@ pub const SCALAR_HALF_ANGLE_LIMIT: f64 = std::f64::consts::FRAC_PI_2;
 impl Rotator for Scalar {
     type Aux = ();
 
+    const MAY_FAULT: bool = true;
+
     const INFO: RotatorInfo = RotatorInfo {
         name: "scalar",
         title: "Kleppmann's scalar factor; explicit Euler for the angular velocity",

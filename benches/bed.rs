@@ -1,0 +1,232 @@
+//! Fibre beds: fibre-steps per second with 1 and 2 threads, and heap bytes
+//! per fibre, as medians over repeated runs (a `--bench`-style command, not
+//! criterion: one sample is hundreds of steps of a whole bed).
+//!
+//! ```sh
+//! cargo bench --bench bed -- scenarios/bed_10k.toml             # a bed file
+//! cargo bench --bench bed -- --lattice 100000                   # N fibres on a lattice
+//! cargo bench --bench bed -- FILE --steps 200 --repeats 5 --threads 1,2
+//! ```
+//!
+//! Per run it prints: fibres, steps, median fibre-steps/s per thread count
+//! and the parallel efficiency, the neighbour-list builds and candidate pairs
+//! per fibre, touching contacts per fibre, the stage shares (one clocked
+//! run), and the heap in use per fibre after loading and while stepping
+//! (a counting allocator wraps the system one).
+
+use fibresim::integrate::rotate::{Rotator, RotatorVisitor};
+use fibresim::integrate::step::{StageTimes, World};
+use fibresim::scenario::Scene;
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+/// The system allocator, counting the bytes in use and their peak.
+struct Counting;
+
+static IN_USE: AtomicUsize = AtomicUsize::new(0);
+static PEAK: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
+        let p = unsafe { System.alloc(l) };
+        if !p.is_null() {
+            let now = IN_USE.fetch_add(l.size(), Ordering::Relaxed) + l.size();
+            PEAK.fetch_max(now, Ordering::Relaxed);
+        }
+        p
+    }
+    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
+        unsafe { System.dealloc(p, l) };
+        IN_USE.fetch_sub(l.size(), Ordering::Relaxed);
+    }
+    unsafe fn realloc(&self, p: *mut u8, l: Layout, new: usize) -> *mut u8 {
+        let q = unsafe { System.realloc(p, l, new) };
+        if !q.is_null() {
+            if new > l.size() {
+                let now = IN_USE.fetch_add(new - l.size(), Ordering::Relaxed) + new - l.size();
+                PEAK.fetch_max(now, Ordering::Relaxed);
+            } else {
+                IN_USE.fetch_sub(l.size() - new, Ordering::Relaxed);
+            }
+        }
+        q
+    }
+}
+
+#[global_allocator]
+static ALLOC: Counting = Counting;
+
+/// `n` fibres (D = 0.01, L = 0.03) on a lattice in a box, tilted at random,
+/// at rest under gravity, each cell a little wider than a fibre: a loose
+/// stack that starts touching as it falls. Built in memory (no start-up
+/// overlap check is needed: the cells keep the fibres apart).
+fn lattice(n: usize) -> Scene {
+    let (d, l) = (0.01f64, 0.03f64);
+    let cell = (d * d + l * l).sqrt() * 1.02;
+    let side = ((n as f64).sqrt() / 2.0).ceil().max(1.0) as usize;
+    let layers = n.div_ceil(side * side);
+    let max = [side as f64 * cell, side as f64 * cell, layers as f64 * cell];
+    let mut text = format!(
+        "[simulation]\ndt = 1e-6\nt_end = 1e-6\n[world]\ngravity = [0.0, 0.0, -9.81]\n[box]\nmin = [0.0, 0.0, 0.0]\nmax = [{}, {}, {}]\nyoung = 5e7\npoisson = 0.35\n[[body]]\nshape = \"fibre\"\ndiameter = {d}\nlength = {l}\ndensity = 1100.0\nyoung = 5e7\npoisson = 0.35\nposition = [{h}, {h}, {h}]\n",
+        max[0], max[1], max[2], h = 0.5 * cell
+    );
+    text.push('\n');
+    let mut scene = fibresim::scenario::parse_str(&text, "<lattice>").expect("one-body template");
+    let template = scene.bodies[0];
+    let mut seed = 0x2545_f491_4f6c_dd1du64;
+    let mut rnd = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    scene.bodies.clear();
+    scene.initial.clear();
+    scene.names.clear();
+    for k in 0..n {
+        let (i, j, z) = (k % side, (k / side) % side, k / (side * side));
+        let c = |g: usize| (g as f64 + 0.5) * cell;
+        let axis = glam::DVec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5).normalize();
+        let q = glam::DQuat::from_rotation_arc(glam::DVec3::X, axis);
+        scene.bodies.push(template);
+        scene.names.push(format!("body{k}"));
+        scene.initial.push(fibresim::body::BodyState {
+            x: glam::DVec3::new(c(i), c(j), c(z)),
+            v: glam::DVec3::ZERO,
+            rot: fibresim::body::RotState {
+                q,
+                omega_b: glam::DVec3::ZERO,
+            },
+        });
+    }
+    scene.ids = (0..n as u64).collect();
+    scene
+}
+
+/// Run `steps` steps of the world with rotator `R`.
+struct Steps<'a, 's>(&'a mut World<'s>, u64);
+
+impl RotatorVisitor for Steps<'_, '_> {
+    type Output = ();
+    fn visit<R: Rotator>(self) {
+        for _ in 0..self.1 {
+            self.0.step::<R>().expect("the bed stays stable");
+        }
+    }
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| a != "--bench")
+        .collect();
+    let flag = |name: &str| {
+        args.iter()
+            .position(|a| a == name)
+            .and_then(|i| args.get(i + 1))
+            .cloned()
+    };
+    let steps: u64 = flag("--steps").map_or(200, |s| s.parse().expect("--steps N"));
+    let repeats: usize = flag("--repeats").map_or(5, |s| s.parse().expect("--repeats N"));
+    let threads: Vec<usize> = flag("--threads")
+        .unwrap_or_else(|| "1,2".into())
+        .split(',')
+        .map(|s| s.parse().expect("--threads 1,2"))
+        .collect();
+    let before = IN_USE.load(Ordering::Relaxed);
+    let t0 = Instant::now();
+    let scene = match flag("--lattice") {
+        Some(n) => lattice(n.parse().expect("--lattice N")),
+        None => {
+            let path = args
+                .iter()
+                .find(|a| !a.starts_with("--") && flag_value(&args, a))
+                .expect("give a scenario file or --lattice N");
+            fibresim::scenario::load(std::path::Path::new(path)).expect("the bed loads")
+        }
+    };
+    let load_s = t0.elapsed().as_secs_f64();
+    let n = scene.bodies.len();
+    let loaded = IN_USE.load(Ordering::Relaxed) - before;
+    println!(
+        "{} fibres loaded in {load_s:.2} s; heap after loading {:.0} B/fibre (peak {:.0} B/fibre)",
+        n,
+        loaded as f64 / n as f64,
+        (PEAK.load(Ordering::Relaxed) - before) as f64 / n as f64
+    );
+
+    let mut rates = vec![];
+    for &t in &threads {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build()
+            .unwrap();
+        let samples: Vec<f64> = pool.install(|| {
+            (0..repeats)
+                .map(|_| {
+                    let mut w = World::new(&scene);
+                    scene.sim.rotator().visit(Steps(&mut w, 2)); // warm the buffers
+                    let start = Instant::now();
+                    scene.sim.rotator().visit(Steps(&mut w, steps));
+                    (steps * n as u64) as f64 / start.elapsed().as_secs_f64()
+                })
+                .collect()
+        });
+        let m = median(samples);
+        rates.push((t, m));
+        println!(
+            "threads {t}: median {:.3} M fibre-steps/s ({repeats} runs of {steps} steps)",
+            m / 1e6
+        );
+    }
+    if let (Some(&(1, one)), Some(&(t, many))) = (rates.first(), rates.last()) {
+        if t > 1 {
+            println!(
+                "parallel efficiency on {t} threads: {:.0} %",
+                100.0 * many / (one * t as f64)
+            );
+        }
+    }
+
+    // One clocked run on one thread: stage shares, lists, contacts, memory.
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    pool.install(|| {
+        let base = IN_USE.load(Ordering::Relaxed);
+        let mut w = World::new(&scene);
+        w.timers = Some(StageTimes::default());
+        scene.sim.rotator().visit(Steps(&mut w, steps));
+        let heap = IN_USE.load(Ordering::Relaxed) - base;
+        let t = w.timers.unwrap();
+        let total = (t.integrate + t.forces + t.guards).as_secs_f64();
+        let share = |d: std::time::Duration| 100.0 * d.as_secs_f64() / total;
+        let c = w.contacts.as_ref().expect("a bed has contacts");
+        println!(
+            "one thread, clocked: forces {:.0} %, integration {:.0} %, guards {:.0} %; {} list builds in {steps} steps; {:.2} touching contacts per fibre",
+            share(t.forces),
+            share(t.integrate),
+            share(t.guards),
+            c.neighbour_builds(),
+            c.stats.touching as f64 / n as f64
+        );
+        println!(
+            "heap while stepping: {:.0} B/fibre for the world (states, forces, contact stage), {:.0} B/fibre with the scene",
+            heap as f64 / n as f64,
+            (heap + loaded) as f64 / n as f64
+        );
+    });
+}
+
+/// Whether `a` is not the value of a `--flag`.
+fn flag_value(args: &[String], a: &str) -> bool {
+    let i = args.iter().position(|x| x == a).unwrap_or(0);
+    i == 0 || !args[i - 1].starts_with("--")
+}

@@ -1,0 +1,98 @@
+//! The opening and closing stages on the thread pool, for scenes of many
+//! bodies ([`crate::contact::stage::parallel`]). Each body is advanced
+//! exactly as the one-thread stages advance it; the energy ledger is summed
+//! in body order, so the bits do not depend on the thread count.
+
+use super::rotate::{AuxState, Rotator};
+use super::step::{body_is_sound, torque_source};
+use super::verlet;
+use super::world::World;
+use crate::body::BodyState;
+use crate::energy::Ledger;
+use crate::torque::PrescribedTorque;
+use glam::DVec3;
+use rayon::prelude::*;
+
+/// The prescribed torque of body `i`, from the sparse list sorted by body.
+#[inline]
+fn prescribed(list: &[crate::scenario::Prescribed], i: usize) -> Option<&PrescribedTorque> {
+    if list.is_empty() {
+        return None;
+    }
+    list.binary_search_by_key(&i, |p| p.body)
+        .ok()
+        .map(|k| &list[k].torque)
+}
+
+impl World<'_> {
+    /// [`Self::open`] on the thread pool, for rotators that never refuse a
+    /// step ([`Rotator::MAY_FAULT`]).
+    pub(super) fn open_par<R: Rotator>(&mut self, start: f64, h: f64) {
+        let scene = self.scene;
+        let dt = h * scene.sim.dt();
+        let t = (self.step as f64 + start) * scene.sim.dt();
+        let g = scene.gravity.unwrap_or(DVec3::ZERO);
+        let (force, torque) = (&self.force, &self.torque);
+        par_bodies::<R>(&mut self.states, &mut self.aux, |i, s, a| {
+            let body = &scene.bodies[i];
+            verlet::kick_drift(&mut s.x, &mut s.v, force[i] * body.inv_mass + g, dt);
+            let tau = torque_source(prescribed(&scene.torques, i), torque[i]);
+            let _ = R::advance(&mut s.rot, a, &body.inertia, tau, t, dt);
+        });
+    }
+
+    /// [`Self::close`] on the thread pool: the per-body work in parallel,
+    /// the ledger summed in body order afterwards.
+    pub(super) fn close_par<R: Rotator>(&mut self, end: f64, h: f64, last: bool) -> bool {
+        let scene = self.scene;
+        let dt = h * scene.sim.dt();
+        let t_end = (self.step as f64 + end) * scene.sim.dt();
+        let g = scene.gravity.unwrap_or(DVec3::ZERO);
+        let (force, torque) = (&self.force, &self.torque);
+        par_bodies::<R>(&mut self.states, &mut self.aux, |i, s, a| {
+            let body = &scene.bodies[i];
+            verlet::kick(&mut s.v, force[i] * body.inv_mass + g, dt);
+            let tau = torque_source(prescribed(&scene.torques, i), torque[i]);
+            R::finish(&mut s.rot, a, &body.inertia, tau, t_end, dt);
+        });
+        if !last {
+            return true;
+        }
+        let sound = self.states.par_iter().all(body_is_sound);
+        // Summed in body order: the bits of the one-thread pass.
+        let mut ledger = Ledger {
+            elastic: self.elastic(),
+            ..Ledger::default()
+        };
+        for (body, s) in scene.bodies.iter().zip(&self.states) {
+            ledger.add_body(body, s, g);
+        }
+        self.ledger = ledger;
+        sound
+    }
+}
+
+/// Run `f(index, state, aux)` for every body on the thread pool.
+fn par_bodies<R: Rotator>(
+    states: &mut [BodyState],
+    aux: &mut [f64],
+    f: impl Fn(usize, &mut BodyState, &mut R::Aux) + Sync,
+) {
+    let len = R::Aux::LEN;
+    if len == 0 {
+        states.par_iter_mut().enumerate().for_each(|(i, s)| {
+            let mut a = R::Aux::default();
+            f(i, s, &mut a);
+        });
+    } else {
+        states
+            .par_iter_mut()
+            .zip(aux.par_chunks_mut(len))
+            .enumerate()
+            .for_each(|(i, (s, slot))| {
+                let mut a = R::Aux::read(slot);
+                f(i, s, &mut a);
+                a.write(slot);
+            });
+    }
+}
