@@ -255,3 +255,46 @@ fn bad_flags_and_inputs_are_exit_2_with_the_fix() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--scenario PATH"));
 }
+
+/// A still is drawn in bands on the thread pool and a GIF's frames in
+/// parallel: the bytes are the same on one thread and on two.
+#[test]
+fn pictures_are_the_same_bytes_whatever_the_thread_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("packed.toml");
+    std::fs::write(&scene, common::packed_scene(6, 8, 8, 2e-5)).unwrap();
+    let out = dir.path().join("o");
+    ok(fibresim(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--vtk-every",
+        "10",
+        "-q",
+        "--out",
+        out.to_str().unwrap(),
+    ]));
+    let pvd = out.join("fibres.pvd");
+    let pvd = pvd.to_str().unwrap();
+    let mut bytes = vec![];
+    for threads in ["1", "2"] {
+        let (png, gif) = (
+            dir.path().join(format!("s{threads}.png")),
+            dir.path().join(format!("a{threads}.gif")),
+        );
+        for (extra, path) in [(None, &png), (Some("--gif"), &gif)] {
+            let mut a = vec!["--threads", threads, "render", pvd, "--size", "600x500"];
+            a.extend(extra);
+            a.extend(["-o", path.to_str().unwrap()]);
+            ok(fibresim(&a));
+        }
+        bytes.push((std::fs::read(&png).unwrap(), std::fs::read(&gif).unwrap()));
+    }
+    assert!(
+        bytes[0].0 == bytes[1].0,
+        "the still differs between 1 and 2 threads"
+    );
+    assert!(
+        bytes[0].1 == bytes[1].1,
+        "the GIF differs between 1 and 2 threads"
+    );
+}

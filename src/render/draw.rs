@@ -8,8 +8,8 @@ use super::camera::Camera;
 use super::frame::Fibre;
 use glam::DVec3;
 use tiny_skia::{
-    Color, FillRule, GradientStop, LinearGradient, Paint, Path, PathBuilder, Pixmap, Point,
-    RadialGradient, Rect, Shader, SpreadMode, Stroke, Transform,
+    Color, FillRule, GradientStop, LinearGradient, Paint, Path, PathBuilder, Pixmap, PixmapMut,
+    Point, RadialGradient, Rect, Shader, SpreadMode, Stroke, Transform,
 };
 
 /// The light: direction toward it (camera frame: up-left, in front).
@@ -59,7 +59,7 @@ fn ellipse(pb: &mut PathBuilder, c: (f64, f64), u: (f64, f64), v: (f64, f64)) {
 }
 
 /// Draw one fibre in `rgb`.
-pub(crate) fn fibre(pm: &mut Pixmap, cam: &Camera, f: &Fibre, rgb: [u8; 3], capsule: bool) {
+pub(crate) fn fibre(pm: &mut PixmapMut<'_>, cam: &Camera, f: &Fibre, rgb: [u8; 3], capsule: bool) {
     let h = 0.5 * f.length * f.axis;
     let (x1, y1, _) = cam.project(f.centre - h);
     let (x2, y2, _) = cam.project(f.centre + h);
@@ -212,7 +212,14 @@ fn hull(
 }
 
 /// A capsule's hemispherical end: a radial gradient lit from `light`.
-fn sphere_cap(pm: &mut Pixmap, e: (f64, f64), r: f64, rgb: [u8; 3], cam: &Camera, light: DVec3) {
+fn sphere_cap(
+    pm: &mut PixmapMut<'_>,
+    e: (f64, f64),
+    r: f64,
+    rgb: [u8; 3],
+    cam: &Camera,
+    light: DVec3,
+) {
     let hl = (light.dot(cam.right), -light.dot(cam.up));
     let focus = Point::from_xy(
         (e.0 + 0.45 * r * hl.0) as f32,

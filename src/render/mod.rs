@@ -76,7 +76,7 @@ fn bounds<'a>(frames: impl Iterator<Item = &'a Frame>) -> (DVec3, DVec3) {
 }
 
 /// The camera and the colour scale shared by the pictures of `frames`.
-fn look(frames: &[&Frame], o: &RenderOptions) -> picture::Look {
+fn look(frames: &[&Frame], o: &RenderOptions, bands: bool) -> picture::Look {
     let area = picture::area(o.width, o.height);
     let camera = Camera::fit(o.view, bounds(frames.iter().copied()), area, o.zoom);
     let scale = match o.range {
@@ -93,12 +93,13 @@ fn look(frames: &[&Frame], o: &RenderOptions) -> picture::Look {
         capsule: o.capsule,
         width: o.width,
         height: o.height,
+        bands,
     }
 }
 
 /// The RGBA pixels of `frame` drawn with `o` (its own camera and range).
 pub fn draw_frame(frame: &Frame, o: &RenderOptions) -> tiny_skia::Pixmap {
-    picture::picture(frame, &look(&[frame], o))
+    picture::picture(frame, &look(&[frame], o, true))
 }
 
 /// Opaque RGB bytes of a picture (drawn on white: premultiplied = straight).
@@ -159,7 +160,8 @@ pub fn animate(source: &Source, o: &RenderOptions, fps: f64, out: &Path) -> Resu
         .map(|k| source.frame(k))
         .collect::<Result<Vec<_>>>()?;
     let refs: Vec<&Frame> = frames.iter().collect();
-    let look = look(&refs, o);
+    // The frames are drawn in parallel already: each in one band.
+    let look = look(&refs, o, false);
     let file = std::fs::File::create(out).map_err(|e| Error::io(out, e))?;
     let io = |e: gif::EncodingError| Error::io(out, std::io::Error::other(e.to_string()));
     let (w, h) = (o.width as u16, o.height as u16);

@@ -21,6 +21,9 @@ pub(crate) struct Look {
     pub capsule: bool,
     pub width: u32,
     pub height: u32,
+    /// Draw the fibres in bands on the thread pool (a still), or in one
+    /// pass (frames of an animation, themselves drawn in parallel).
+    pub bands: bool,
 }
 
 /// The drawing area of a `width` × `height` picture (x, y, w, h).
@@ -49,10 +52,7 @@ pub(crate) fn picture(frame: &Frame, look: &Look) -> Pixmap {
         .map(|(i, f)| (cam.project(f.centre).2, i as u32))
         .collect();
     order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    for &(_, i) in &order {
-        let f = &frame.fibres[i as usize];
-        draw::fibre(&mut pm, cam, f, look.scale.colour(f), look.capsule);
-    }
+    fibres(&mut pm, frame, look, &order);
     if let Some(w) = frame.walls {
         draw::box_edges(&mut pm, cam, w, false);
     }
@@ -71,6 +71,67 @@ pub(crate) fn picture(frame: &Frame, look: &Look) -> Pixmap {
         _ => bar(&mut pm, &font, &look.scale),
     }
     pm
+}
+
+/// Rows of one band of the fibre pass. Bands are drawn in parallel, each
+/// with every fibre that reaches it, back to front; a fixed height, so the
+/// picture's bytes do not depend on the thread count.
+const BAND_ROWS: usize = 128;
+/// Rows drawn above and below a band and then dropped: tiny-skia's
+/// anti-aliasing differs within a few pixels of where a path is clipped, so
+/// no kept pixel is near a band's own edge (seams stay invisible).
+const BAND_MARGIN: usize = 8;
+
+/// The fibres in `order` (back to front), band by band.
+fn fibres(pm: &mut Pixmap, frame: &Frame, look: &Look, order: &[(f64, u32)]) {
+    use rayon::prelude::*;
+    let cam = &look.camera;
+    // Each fibre's screen rows: its end points ± its radius, plus 2 px for
+    // the rim (0.8 px) and anti-aliasing.
+    let spans: Vec<(f64, f64, u32)> = order
+        .iter()
+        .map(|&(_, i)| {
+            let f = &frame.fibres[i as usize];
+            let h = 0.5 * f.length * f.axis;
+            let (y1, y2) = (cam.project(f.centre - h).1, cam.project(f.centre + h).1);
+            let r = 0.5 * f.diameter * cam.scale + 2.0;
+            (y1.min(y2) - r, y1.max(y2) + r, i)
+        })
+        .collect();
+    let (width, height) = (pm.width() as usize, pm.height() as usize);
+    let row = 4 * width;
+    let (rows_per_band, margin) = if look.bands {
+        (BAND_ROWS, BAND_MARGIN)
+    } else {
+        (height, 0)
+    };
+    let background: &Pixmap = pm;
+    let bands: Vec<(usize, Vec<u8>)> = (0..height.div_ceil(rows_per_band))
+        .into_par_iter()
+        .map(|k| {
+            let top = (k * rows_per_band).saturating_sub(margin);
+            let bottom = ((k + 1) * rows_per_band + margin).min(height);
+            let mut rows = background.data()[top * row..bottom * row].to_vec();
+            let mut band =
+                tiny_skia::PixmapMut::from_bytes(&mut rows, width as u32, (bottom - top) as u32)
+                    .expect("a band of the picture");
+            let mut cam = *cam;
+            cam.origin.1 -= top as f64;
+            for &(y0, y1, i) in &spans {
+                if y1 >= top as f64 && y0 <= bottom as f64 {
+                    let f = &frame.fibres[i as usize];
+                    draw::fibre(&mut band, &cam, f, look.scale.colour(f), look.capsule);
+                }
+            }
+            let keep = k * rows_per_band - top..((k + 1) * rows_per_band).min(height) - top;
+            (k, rows[keep.start * row..keep.end * row].to_vec())
+        })
+        .collect();
+    let data = pm.data_mut();
+    for (k, rows) in bands {
+        let at = k * rows_per_band * row;
+        data[at..at + rows.len()].copy_from_slice(&rows);
+    }
 }
 
 /// A number with at most 6 significant digits, without trailing zeros.
