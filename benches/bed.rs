@@ -6,7 +6,11 @@
 //! cargo bench --bench bed -- scenarios/bed_10k.toml             # a bed file
 //! cargo bench --bench bed -- --lattice 100000                   # N fibres on a lattice
 //! cargo bench --bench bed -- FILE --steps 200 --repeats 5 --threads 1,2
+//! cargo bench --bench bed -- FILE --csv scaling.csv             # and append rows
 //! ```
+//!
+//! `--csv FILE` appends one row per thread count (header when the file is
+//! new), for `fibresim plot scaling.csv --x fibres --column fibre_steps_per_s`.
 //!
 //! Per run it prints: fibres, steps, median fibre-steps/s per thread count
 //! and the parallel efficiency, the neighbour-list builds and candidate pairs
@@ -199,7 +203,7 @@ fn main() {
         .num_threads(1)
         .build()
         .unwrap();
-    pool.install(|| {
+    let (touching, builds, heap_per_fibre) = pool.install(|| {
         let base = IN_USE.load(Ordering::Relaxed);
         let mut w = World::new(&scene);
         w.timers = Some(StageTimes::default());
@@ -222,7 +226,47 @@ fn main() {
             heap as f64 / n as f64,
             (heap + loaded) as f64 / n as f64
         );
+        (
+            c.stats.touching as f64 / n as f64,
+            c.neighbour_builds(),
+            (heap + loaded) as f64 / n as f64,
+        )
     });
+    if let Some(path) = flag("--csv") {
+        append_csv(&path, n, steps, &rates, touching, builds, heap_per_fibre);
+    }
+}
+
+/// Append the medians to `path`, one row per thread count.
+fn append_csv(
+    path: &str,
+    n: usize,
+    steps: u64,
+    rates: &[(usize, f64)],
+    touching: f64,
+    builds: u64,
+    heap: f64,
+) {
+    use std::io::Write;
+    let new = !std::path::Path::new(path).exists();
+    let mut f = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(path)
+        .unwrap_or_else(|e| panic!("cannot open {path}: {e}"));
+    if new {
+        writeln!(f, "fibres,threads,fibre_steps_per_s,ns_per_fibre_step,parallel_efficiency,steps,list_builds,touching_per_fibre,heap_bytes_per_fibre").unwrap();
+    }
+    let one = rates.iter().find(|r| r.0 == 1).map(|r| r.1);
+    for &(t, rate) in rates {
+        let eff = one.map_or(f64::NAN, |o| rate / (o * t as f64));
+        writeln!(
+            f,
+            "{n},{t},{rate:.0},{:.2},{eff:.3},{steps},{builds},{touching:.3},{heap:.0}",
+            1e9 / rate
+        )
+        .unwrap();
+    }
 }
 
 /// Whether `a` is not the value of a `--flag`.

@@ -36,7 +36,7 @@ impl World<'_> {
         par_bodies::<R>(&mut self.states, &mut self.aux, |i, s, a| {
             let body = &scene.bodies[i];
             verlet::kick_drift(&mut s.x, &mut s.v, force[i] * body.inv_mass + g, dt);
-            let tau = torque_source(prescribed(&scene.torques, i), torque[i]);
+            let tau = pooled(torque_source(prescribed(&scene.torques, i), torque[i]));
             let _ = R::advance(&mut s.rot, a, &body.inertia, tau, t, dt);
         });
     }
@@ -52,7 +52,7 @@ impl World<'_> {
         par_bodies::<R>(&mut self.states, &mut self.aux, |i, s, a| {
             let body = &scene.bodies[i];
             verlet::kick(&mut s.v, force[i] * body.inv_mass + g, dt);
-            let tau = torque_source(prescribed(&scene.torques, i), torque[i]);
+            let tau = pooled(torque_source(prescribed(&scene.torques, i), torque[i]));
             R::finish(&mut s.rot, a, &body.inertia, tau, t_end, dt);
         });
         if !last {
@@ -70,6 +70,15 @@ impl World<'_> {
         self.ledger = ledger;
         sound
     }
+}
+
+/// The same torque under a closure type of its own. The pool's stages then
+/// get their own instance of each rotator's `advance`/`finish`, and the
+/// one-thread loop keeps its single call site, which the compiler inlines
+/// (shared, it did not: +8 % instructions on test case 2 under callgrind).
+#[inline]
+fn pooled(torque: impl Fn(f64) -> DVec3) -> impl Fn(f64) -> DVec3 {
+    move |t| torque(t)
 }
 
 /// Run `f(index, state, aux)` for every body on the thread pool.
