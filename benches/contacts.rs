@@ -43,10 +43,11 @@ fn main() {
     let builds = w.contacts.as_ref().map_or(0, |c| c.neighbour_builds());
     // (Of the clocked run: the scene's rotator is pcdm, so it is the same
     // run as the timed one.)
-    let parry = w
+    let k = w
         .contacts
         .as_ref()
-        .map_or(0, |c| c.kernel_counters().parry_calls);
+        .map(|c| c.kernel_counters())
+        .unwrap_or_default();
     let total = (t.integrate + t.forces + t.guards).as_secs_f64();
     let share = |d: std::time::Duration| 100.0 * d.as_secs_f64() / total;
     assert_eq!(outcome.steps, scene.sim.steps());
@@ -63,8 +64,11 @@ fn main() {
         share(t.guards)
     );
     println!(
-        "neighbour-list builds: {builds} (one per {:.0} steps); parry calls (end-involved contacts): {parry} ({:.2} per step)",
+        "neighbour-list builds: {builds} (one per {:.0} steps); end-involved feature scans: {} ({:.3} per step), of which fell back to the iterative search: {}; parry calls: {}",
         steps / builds.max(1) as f64,
-        parry as f64 / steps
+        k.end_scans,
+        k.end_scans as f64 / steps,
+        k.fallbacks,
+        k.parry_calls
     );
 }

@@ -254,9 +254,15 @@ fn end_involved_contacts_match_brute_force_oracle() {
     );
     assert!(touching >= 80 && separated >= 30, "{touching} {separated}");
     assert_eq!(parry_wrong, 0);
-    // parry was asked, and every "no contact" it gave was confirmed by a
-    // separating axis.
-    assert!(counters.parry_calls > 0);
+    // Every pose past the capsule bound is one feature scan; parry is asked
+    // only by a scan that falls back, and every "no contact" it gives is
+    // confirmed by a separating axis.
+    assert!(counters.end_scans > 0);
+    assert_eq!(counters.parry_calls, counters.fallbacks);
+    assert!(
+        counters.fallbacks * 100 <= counters.end_scans,
+        "{counters:?}"
+    );
     assert_eq!(counters.parry_unconfirmed, 0);
 }
 

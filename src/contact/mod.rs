@@ -82,8 +82,8 @@ pub struct ContactPoint {
 /// life), so concurrent callers never see each other's counts.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct KernelCounters {
-    /// parry contact queries (end-involved fibre–fibre pairs that no cheap
-    /// separating axis settled).
+    /// parry contact queries (end-involved fibre–fibre pairs whose feature
+    /// scan handed over to the iterative search, see `fallbacks`).
     pub parry_calls: u64,
     /// parry answers rejected by the sanity checks (the depth is recomputed
     /// either way; parry's normal, if finite, still seeds the search).
@@ -91,6 +91,14 @@ pub struct KernelCounters {
     /// parry "no contact" verdicts that no separating axis confirmed (parry
     /// is still followed; zero in the tests and in test case 2).
     pub parry_unconfirmed: u64,
+    /// End-involved fibre–fibre depths computed by the feature-pair
+    /// kernels (each a scan of the feature pairs near the contact).
+    pub end_scans: u64,
+    /// Of those, the scans that could not certify their answer and handed
+    /// over to the iterative search (seeded by parry: each is also one
+    /// `parry_calls`, except in the side–side escape, which seeds it with
+    /// its own normals).
+    pub fallbacks: u64,
 }
 
 impl std::ops::Add for KernelCounters {
@@ -100,6 +108,8 @@ impl std::ops::Add for KernelCounters {
             parry_calls: self.parry_calls + o.parry_calls,
             parry_rejects: self.parry_rejects + o.parry_rejects,
             parry_unconfirmed: self.parry_unconfirmed + o.parry_unconfirmed,
+            end_scans: self.end_scans + o.end_scans,
+            fallbacks: self.fallbacks + o.fallbacks,
         }
     }
 }

@@ -8,9 +8,10 @@ use super::Cand;
 use crate::contact::{ContactPoint, FibreGeom};
 use glam::DVec3;
 
-/// Width ε (m) of the C¹ smooth minima of the side–side axial escape: a
-/// tie under-estimates the depth by ε/4 (0.25 µm).
-pub(super) const TIE_BAND: f64 = 1e-6;
+/// Width ε (m) of the C¹ smooth minima and maxima of the side–side model
+/// (the two ends of a line contact, the axial escape): a tie moves each
+/// depth by ε/4 (0.25 µm).
+pub const TIE_BAND: f64 = 1e-6;
 
 /// Width ε (m) of the C² smooth minimum of two tied local minima of the
 /// end-involved depth: at an exact tie the depth is under-estimated by
@@ -75,14 +76,20 @@ const EMPTY_PART: Part = (
     0.0,
 );
 
-/// A depth that is a smooth minimum of up to three candidate depths: every
+/// Most parts of a [`Blend`]: the side–side main contact is a smooth
+/// maximum of the crossing and of the smooth maximum of the two overlap ends
+/// (three), smoothly minimised with the axial escape (four).
+const MAX_PARTS: usize = 4;
+
+/// A depth that is a smooth minimum (or maximum) of up to [`MAX_PARTS`]
+/// candidate depths: every
 /// part is pushed at the blended depth `depth` with its weight `∂depth/∂δ_i`
 /// (the weights sum to 1), so the energy is `U(depth)` and the parts'
 /// forces sum to its exact gradient `F(depth) Σ_i w_i ∇δ_i`. A part with a
 /// [`Wrench`] carries a gradient that is not a single force line.
 #[derive(Clone, Copy)]
 pub(super) struct Blend {
-    parts: [Part; 3],
+    parts: [Part; MAX_PARTS],
     /// The blended depth (m).
     pub(super) depth: f64,
 }
@@ -92,7 +99,7 @@ impl Blend {
     #[inline]
     pub(super) fn single(c: Cand) -> Self {
         Self {
-            parts: [(c, None, 1.0), EMPTY_PART, EMPTY_PART],
+            parts: [(c, None, 1.0), EMPTY_PART, EMPTY_PART, EMPTY_PART],
             depth: c.depth,
         }
     }
@@ -102,7 +109,7 @@ impl Blend {
     #[inline]
     pub(super) fn with_wrench(c: Cand, wr: Wrench) -> Self {
         Self {
-            parts: [(c, Some(wr), 1.0), EMPTY_PART, EMPTY_PART],
+            parts: [(c, Some(wr), 1.0), EMPTY_PART, EMPTY_PART, EMPTY_PART],
             depth: c.depth,
         }
     }
@@ -114,8 +121,19 @@ impl Blend {
         self.smin_by(other, |x, y| smooth_min(x, y, TIE_BAND))
     }
 
-    /// The smooth minimum `blend(self, other)` (value and its two
-    /// derivatives), weights by the chain rule.
+    /// `smooth_max(self, other)` over `eps` (C¹, `−smooth_min(−x, −y)`; the
+    /// plain max outside the band, `(x + y)/2 + ε/4` at a tie), weights by
+    /// the chain rule. With the same band, `smax + smin = x + y`.
+    #[inline]
+    pub(super) fn smax(self, other: Blend, eps: f64) -> Blend {
+        self.smin_by(other, |x, y| {
+            let (m, wx, wy) = smooth_min(-x, -y, eps);
+            (-m, wx, wy)
+        })
+    }
+
+    /// The smooth minimum (or maximum) `blend(self, other)` (value and its
+    /// two derivatives), weights by the chain rule.
     pub(super) fn smin_by(
         self,
         other: Blend,
@@ -128,7 +146,7 @@ impl Blend {
         if wx == 0.0 {
             return other;
         }
-        let mut parts = [EMPTY_PART; 3];
+        let mut parts = [EMPTY_PART; MAX_PARTS];
         let mut k = 0;
         for (p, w) in self
             .parts
@@ -136,9 +154,12 @@ impl Blend {
             .map(|p| (p, wx))
             .chain(other.parts.iter().map(|p| (p, wy)))
         {
-            if p.2 > 0.0 && k < 3 {
-                parts[k] = (p.0, p.1, p.2 * w);
-                k += 1;
+            if p.2 > 0.0 {
+                debug_assert!(k < MAX_PARTS, "a blend of more than {MAX_PARTS} parts");
+                if k < MAX_PARTS {
+                    parts[k] = (p.0, p.1, p.2 * w);
+                    k += 1;
+                }
             }
         }
         Blend { parts, depth: m }
@@ -225,7 +246,7 @@ fn push_wrench(
 /// Push a candidate contact with weight `weight` (and the weight's couple
 /// gradient `weight_grad`) if it is touching.
 #[inline]
-fn push_weighted(out: &mut Vec<ContactPoint>, c: Cand, weight: f64, weight_grad: DVec3) {
+pub(super) fn push_weighted(out: &mut Vec<ContactPoint>, c: Cand, weight: f64, weight_grad: DVec3) {
     if c.depth > 0.0 && weight > 0.0 {
         out.push(ContactPoint {
             point: c.point,

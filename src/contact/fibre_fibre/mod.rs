@@ -5,39 +5,43 @@
 //! the body stays convex and its depth is a true penetration depth. After
 //! the capsule bound (`r_A + r_B − d_seg ≤ 0`: no contact), in this order:
 //! 1. **Near-coaxial end to end** (`|a×b| <` [`COAXIAL_SIN`], A's facing
-//!    face centre over B's face): the penetration depth seeded with the
-//!    face normal, without parry (parry is wrong for exactly coaxial pairs).
+//!    face centre over B's face): the end-involved depth of regime 3 (kept
+//!    apart only so that side–side does not claim these pairs).
 //! 2. **Side–side** (closest points of the axis segments interior to both,
 //!    or `|a×b| <` [`PARALLEL_SIN`] with overlapping axial projections):
 //!    analytic (`side_side.rs`), blended with regime 3 over
 //!    `|a×b| ∈ [`[`PARALLEL_BLEND_SIN`]`, `[`PARALLEL_SIN`]`]` by a weight
 //!    whose gradient is a pure couple ([`ContactPoint::weight_grad`]).
 //! 3. **End involved** (T-junction, L corner, rim on rim): the penetration
-//!    depth of the domed cylinders (`penetration.rs`) seeded by parry's
-//!    checked normal (`parry_check.rs`), tied minima blended (`blend.rs`).
+//!    depth of the domed cylinders as the least of the stationary values of
+//!    the feature pairs near the contact (`end_involved.rs`, `features/`:
+//!    face–face, rim–face, face–side, rim–side, rim–rim), tied minima
+//!    blended (`blend.rs`). Where that scan cannot certify its answer, the
+//!    iterative search (`search.rs`) seeded by parry's checked normal
+//!    (`parry_check.rs`) decides, counted in `KernelCounters::fallbacks`.
 //!
 //! Forces and torques are the exact gradient of the potential except on
 //! measure-zero switching sets. Models, limits and the history behind
 //! them: docs/contacts.md, "Fibre–fibre".
 
 mod blend;
+mod end_involved;
+mod features;
 mod parry_check;
-mod penetration;
+mod search;
 mod segment;
 mod side_side;
 mod support;
 
-pub use blend::END_TIE_BAND;
+pub use blend::{END_TIE_BAND, TIE_BAND};
 pub use segment::segment_closest_params;
 pub use support::{dome_sag, domed_projection_overlap, projection_overlap, END_FACE_DOME_SIN};
 
 use super::{ContactPoint, FibreGeom, KernelCounters};
-use blend::Blend;
+use end_involved::penetration_smoothed;
 use glam::DVec3;
-use parry_check::{cheap_axis_separates, confirm_separated, parry_contact};
-use penetration::penetration_smoothed;
 use segment::axial_overlap;
-use side_side::{closest_point_contact, side_side};
+use side_side::{side_side, SideSide};
 
 /// Below this |sin| of the inter-axis angle a pair counts as parallel for the
 /// line-contact treatment (≈ 2°).
@@ -80,35 +84,28 @@ fn parallel_weight(a: &FibreGeom, b: &FibreGeom, sin: f64) -> (f64, DVec3) {
     (w, grad)
 }
 
-/// Near-coaxial end-to-end contact: the end-involved depth
-/// (`penetration_smoothed`, domed min over directions) started from A's
-/// facing face normal, without parry (parry is wrong for exactly coaxial
-/// pairs); `cp_normal` (the closest-point normal) seeds the search for a
-/// tied second minimum as in regime 3. `None` when the pair is not end to
-/// end (axial overlap ≥ min radius) or A's facing face centre is not over
-/// B's face (rim on rim: regime 3 with parry). Regimes 1–3 share one depth
-/// function, so these acceptance tests switch only how the minimum is
-/// seeded, not the potential.
-fn coaxial(a: &FibreGeom, b: &FibreGeom, cp_normal: DVec3) -> Option<Blend> {
+/// Whether a near-coaxial pair is end to end (regime 1): axial overlap below
+/// the smaller radius and A's facing face centre over B's face. Such pairs
+/// get the end-involved depth; the others (rim on rim, side by side) go on
+/// to regimes 2 and 3. Regimes 1–3 share one depth function, so this test
+/// switches only which regime claims a pair, not the potential.
+fn end_to_end(a: &FibreGeom, b: &FibreGeom) -> bool {
     let w = a.centre - b.centre;
     let axial = w.dot(b.axis);
     let axial_overlap = a.half_length + b.half_length - axial.abs();
     if axial_overlap >= a.radius.min(b.radius) {
-        return None;
+        return false;
     }
     let side = a.axis.dot(w).signum();
     let face = a.centre - side * a.half_length * a.axis;
     let lateral = face - b.centre;
-    if (lateral - lateral.dot(b.axis) * b.axis).length() > b.radius {
-        return None;
-    }
-    Some(penetration_smoothed(a, b, [cp_normal, side * a.axis]))
+    (lateral - lateral.dot(b.axis) * b.axis).length() <= b.radius
 }
 
 /// Fibre–fibre contacts of `a` with `b`, appended to `out` (none when
 /// apart; a blended or split depth is several weighted points); normal =
-/// direction of the force on A. `counters` counts the parry calls and
-/// checks.
+/// direction of the force on A. `counters` counts the end-involved scans,
+/// their fallbacks and the parry calls and checks.
 pub fn contact_fibre_fibre(
     a: &FibreGeom,
     b: &FibreGeom,
@@ -124,61 +121,45 @@ pub fn contact_fibre_fibre(
     let sin = a.axis.cross(b.axis).length();
 
     // 1. Near-coaxial end to end.
-    if sin < COAXIAL_SIN {
-        let cp_normal = closest_point_contact(a, b, s, t).normal;
-        if let Some(c) = coaxial(a, b, cp_normal) {
-            c.push(out, a, 1.0, DVec3::ZERO);
-            return;
-        }
+    if sin < COAXIAL_SIN && end_to_end(a, b) {
+        penetration_smoothed(a, b, out, 1.0, DVec3::ZERO, counters);
+        return;
     }
 
-    // 2. Side–side.
+    // 2. Side–side (the axial overlap of the segments, measured along A,
+    // only for non-interior near-parallel pairs).
     let interior = s.abs() < a.half_length && t.abs() < b.half_length;
-    // Axial overlap of the segments, measured along A.
-    let axial_len = axial_overlap(a, b).len;
-    // Parallel blend: potential U(δ_main) + w·U(δ_2) when interior, else
-    // w·(U(δ_main) + U(δ_2)) + (1 − w)·U(δ_pd) (regime 3's depth), so
-    // the second contact and the model switch fade in/out continuously.
-    let (w_par, w_grad) = parallel_weight(a, b, sin);
     let mut w_side = 0.0;
-    if interior || (sin < PARALLEL_SIN && axial_len > 0.0) {
-        let (main, second) = side_side(a, b, s, t);
-        second.push(out, a, w_par, w_grad);
-        if interior {
-            main.push(out, a, 1.0, DVec3::ZERO);
+    let mut w_grad = DVec3::ZERO;
+    if interior || (sin < PARALLEL_SIN && axial_overlap(a, b).len > 0.0) {
+        let line = side_side(a, b, s, t, counters);
+        if let SideSide::Crossing(_) = line {
+            line.push(out, a, (1.0, DVec3::ZERO), (0.0, DVec3::ZERO));
             return;
         }
-        main.push(out, a, w_par, w_grad);
-        if w_par >= 1.0 {
+        // Parallel blend: potential U(δ_main) + w·U(δ_2) when interior,
+        // else w·(U(δ_main) + U(δ_2)) + (1 − w)·U(δ_pd) (regime 3's depth),
+        // so the second contact and the model switch fade in/out
+        // continuously.
+        let (w_par, g_par) = parallel_weight(a, b, sin);
+        w_grad = g_par;
+        let main = if interior {
+            (1.0, DVec3::ZERO)
+        } else {
+            (w_par, w_grad)
+        };
+        line.push(out, a, main, (w_par, w_grad));
+        if interior || w_par >= 1.0 {
             return;
         }
         w_side = w_par;
     }
 
-    // 3. End involved: parry's normal (checked) seeds an exact minimisation
-    //    of the projection overlap over the cylinders' feature manifolds.
-    let cp = closest_point_contact(a, b, s, t);
-    let margin = dome_sag(a.radius) + dome_sag(b.radius);
-    // A separating axis among the cheap candidates proves there is no
-    // contact without asking parry (most near misses of capsules).
-    if cheap_axis_separates(a, b, margin, cp.normal) {
-        return;
-    }
-    let parry_n = match parry_contact(a, b, bound, margin, counters) {
-        Ok(None) => {
-            confirm_separated(a, b, margin, cp.normal, counters);
-            return;
-        }
-        Ok(Some(c)) => c.normal,
-        Err(n) => {
-            counters.parry_rejects += 1;
-            n
-        }
-    };
+    // 3. End involved: the feature-pair kernels near the contact.
     let (w_pd, g_pd) = if w_side > 0.0 {
         (1.0 - w_side, -w_grad)
     } else {
         (1.0, DVec3::ZERO)
     };
-    penetration_smoothed(a, b, [cp.normal, parry_n]).push(out, a, w_pd, g_pd);
+    penetration_smoothed(a, b, out, w_pd, g_pd, counters);
 }

@@ -4,7 +4,7 @@
 //! by a separating axis ([`confirm_separated`]). What parry gets wrong, and
 //! how often: docs/contacts.md, "The parry check".
 
-use super::penetration::{circle_min, sphere_min};
+use super::search::{circle_min, sphere_min};
 use super::support::{projection_overlap, sig};
 use super::Cand;
 use crate::contact::{FibreGeom, KernelCounters};

@@ -4,12 +4,13 @@
 //! pair, and the axial escape of near-parallel pairs whose ends slide past
 //! each other. Model and limits: docs/contacts.md, "Side–side".
 
-use super::blend::{Blend, Wrench, TIE_BAND};
-use super::penetration::{axial_escape, penetration};
+use super::blend::{push_weighted, smooth_min, Blend, Wrench, TIE_BAND};
+use super::end_involved::{axial_escape, penetration};
+use super::features::rim_point_nearest_line;
 use super::segment::axial_overlap;
 use super::support::sig;
 use super::{Cand, PARALLEL_SIN};
-use crate::contact::FibreGeom;
+use crate::contact::{ContactPoint, FibreGeom, KernelCounters};
 use glam::DVec3;
 
 /// Two candidate contacts whose normals are closer than this (cos 0.1 rad)
@@ -18,11 +19,12 @@ const SAME_CONTACT_COS: f64 = 0.995;
 
 /// End disc of one fibre (centre `e`, axis `ue`, radius `re`) against the
 /// side of `other`: depth of the rim point deepest in `other`, i.e.
-/// `max_φ (r_o − dist(rim(φ), axis_o))`. Start from the rim point facing
-/// `other`'s axis (exact for a parallel pair) and polish φ with Newton steps
-/// on `dist²`, so the result is the max over body-fixed rim points and its
-/// gradient is the force at that point (envelope theorem). Returns the
-/// normal pointing from `other` towards the end's fibre.
+/// `max_φ (r_o − dist(rim(φ), axis_o))`, the rim point nearest `other`'s
+/// axis line by the rim–side kernel's Newton iteration
+/// ([`rim_point_nearest_line`]), so the result is the max over body-fixed
+/// rim points and its gradient is the force at that point (envelope
+/// theorem). Returns the normal pointing from `other` towards the end's
+/// fibre.
 #[inline]
 fn end_vs_side(e: DVec3, ue: DVec3, re: f64, other: &FibreGeom) -> Cand {
     let (oc, ou, oh) = (other.centre, other.axis, other.half_length);
@@ -43,37 +45,7 @@ fn end_vs_side(e: DVec3, ue: DVec3, re: f64, other: &FibreGeom) -> Cand {
             normal: n,
         };
     }
-    let m = n - n.dot(ue) * ue;
-    let ml = m.length();
-    let p = if ml > 1e-12 {
-        // Rim frame: e1 faces `other`, e2 = ue × e1; minimise
-        // f(φ) = |A + re (cos φ B1 + sin φ B2)|², B = component ⊥ ou.
-        let e1 = -m / ml;
-        let e2 = ue.cross(e1);
-        let perp = |x: DVec3| x - ou.dot(x) * ou;
-        let (a0, b1, b2) = (perp(e - oc), perp(e1), perp(e2));
-        let mut phi = 0.0f64;
-        for _ in 0..3 {
-            let (sn, cs) = phi.sin_cos();
-            let r = a0 + re * (cs * b1 + sn * b2);
-            let dr = re * (cs * b2 - sn * b1);
-            let d2r = -re * (cs * b1 + sn * b2);
-            let g = r.dot(dr);
-            let h = dr.dot(dr) + r.dot(d2r);
-            if h <= 0.0 {
-                break;
-            }
-            let step = g / h;
-            phi -= step;
-            if step.abs() < 1e-14 {
-                break;
-            }
-        }
-        let (sn, cs) = phi.sin_cos();
-        e + re * (cs * e1 + sn * e2)
-    } else {
-        e
-    };
+    let p = rim_point_nearest_line(e, ue, re, oc, ou).map_or(e, |(p, _)| p);
     let tp = ou.dot(p - oc).clamp(-oh, oh);
     let qp = oc + tp * ou;
     let vp = p - qp;
@@ -158,28 +130,107 @@ pub(super) fn closest_point_contact(a: &FibreGeom, b: &FibreGeom, s: f64, t: f64
     }
 }
 
-/// Side–side model, potential `U(δ_main) + U(min(δ_lo, δ_hi))`.
+/// What the side–side model gives.
+// Returned by value once per call and never stored: boxing the rare
+// escape's blends would allocate in the force loop.
+#[allow(clippy::large_enum_variant)]
+pub(super) enum SideSide {
+    /// A crossing whose overlap ends do not touch: one point, weight 1.
+    Crossing(Cand),
+    /// The line model of the overlap's ends `lo`, `hi` (and the crossing
+    /// `cp` when the closest points are interior), pushed with weights in
+    /// closed form by [`SideSide::push`] (no [`Blend`] needed).
+    Line {
+        cp: Option<Cand>,
+        lo: Cand,
+        hi: Cand,
+    },
+    /// `(main, second)` of the axial escape.
+    Escape(Blend, Blend),
+}
+
+impl SideSide {
+    /// Push the main contact with `main_weight` (and its couple
+    /// `main_grad`) and the second with `second_weight` (`second_grad`).
+    pub(super) fn push(
+        self,
+        out: &mut Vec<ContactPoint>,
+        a: &FibreGeom,
+        (main_weight, main_grad): (f64, DVec3),
+        (second_weight, second_grad): (f64, DVec3),
+    ) {
+        let part =
+            |out: &mut Vec<ContactPoint>, c: Cand, depth: f64, w: f64, (wt, g): (f64, DVec3)| {
+                if w > 0.0 {
+                    push_weighted(out, Cand { depth, ..c }, w * wt, w * g);
+                }
+            };
+        match self {
+            SideSide::Crossing(c) => push_weighted(out, c, main_weight, main_grad),
+            SideSide::Line { cp, lo, hi } => {
+                // δ_2 = smin(δ_lo, δ_hi); S = smax = −smin(−δ_lo, −δ_hi).
+                let (m, wl, wh) = smooth_min(lo.depth, hi.depth, TIE_BAND);
+                part(out, lo, m, wl, (second_weight, second_grad));
+                part(out, hi, m, wh, (second_weight, second_grad));
+                let (neg_s, sl, sh) = smooth_min(-lo.depth, -hi.depth, TIE_BAND);
+                let (depth, wc, ws) = match cp {
+                    Some(cp) => {
+                        let (neg, wc, ws) = smooth_min(-cp.depth, neg_s, CROSSING_BAND);
+                        (-neg, wc, ws)
+                    }
+                    None => (-neg_s, 0.0, 1.0),
+                };
+                let main = (main_weight, main_grad);
+                if let Some(cp) = cp {
+                    part(out, cp, depth, wc, main);
+                }
+                part(out, lo, depth, ws * sl, main);
+                part(out, hi, depth, ws * sh, main);
+            }
+            SideSide::Escape(main, second) => {
+                second.push(out, a, second_weight, second_grad);
+                main.push(out, a, main_weight, main_grad);
+            }
+        }
+    }
+}
+
+/// Width of the smooth maximum of the crossing and the line contact's
+/// ends (m): below the ε/4 by which the ends' smooth maximum exceeds their
+/// plain maximum at a tie, so an exactly parallel pair (crossing depth =
+/// end depth up to rounding) gives the crossing no weight.
+const CROSSING_BAND: f64 = TIE_BAND / 8.0;
+
+/// Side–side model, potential `U(δ_main) + U(δ_2)` with
+/// `δ_2 = smin(δ_lo, δ_hi)`, `S = smax(δ_lo, δ_hi) = δ_lo + δ_hi − δ_2` (C¹,
+/// band [`TIE_BAND`]) and `δ_main = S`, or `smax(δ_cp, S)` (band
+/// [`CROSSING_BAND`]) when the closest points are interior.
 ///
 /// `δ_lo`/`δ_hi` are the depths at the two ends of the axial overlap (the
 /// deeper of "A's end vs B's side" and "B's end vs A's side" on that side);
-/// `δ_main = max(δ_cp, δ_lo, δ_hi)` with `δ_cp` the closest-point depth.
+/// `δ_cp` is the closest-point depth, never below them.
 /// * Crossed pair: the ends are far apart, `δ_lo, δ_hi < 0`: one Hertz point
 ///   at the crossing, weight 1.
-/// * Parallel pair: the segment minimum sits at an end of the overlap, so
-///   `δ_main = max(δ_lo, δ_hi)` and the potential is `U(δ_lo) + U(δ_hi)`:
-///   two weight-1 points at the ends of the overlap, smooth under rocking
-///   (the kinks of max and min cancel), no chatter.
+/// * Parallel pair: two points at the ends of the overlap, potential
+///   `U(S) + U(δ_2)`, smooth under rocking (at a tie both ends carry half
+///   of each, the depths `δ ± ε/4`), no chatter.
+/// * Scissored and rocked at once (the crossing inside the overlap, the
+///   ends tied): `U(δ_cp) + U(δ_2)`, still C¹: the second contact moves
+///   smoothly from one end to the other instead of switching (the plain
+///   `min` made the torque jump by 2 (ℓ/2) F there, and for an exactly
+///   parallel pair rounding picked the crossing or an end: a torque pulse of
+///   ~F ℓ/2 in one step, issue 10).
 ///
-/// The potential is continuous everywhere (max/min of continuous depths);
-/// forces jump only on the measure-zero set where, with an interior closest
-/// point, `δ_lo = δ_hi` (scissored and rocked at once) or where the
-/// end defining an overlap end switches from A to B.
+/// The potential is C¹ in the pose except where the end defining an
+/// overlap end switches from A to B, and where a crossing point slides off
+/// an end (the crossing depth then meets the end model only to first
+/// order).
 ///
 /// Axial escape (near-parallel pairs only): when the axial overlap `ℓ` of
 /// the segments is below `2δ_main` (ends sliding past each other), the
 /// main depth becomes the smooth minimum ([`TIE_BAND`]) of the sideways
 /// depth and the over-the-end escape ([`axial_escape`]), and the second is
-/// capped at `smin(δ_small, ℓ − δ_pd)` and at `δ_pd + ε/4` (`δ_pd` =
+/// capped at `smin(δ_2, ℓ − δ_pd)` and at `δ_pd + ε/4` (`δ_pd` =
 /// [`penetration`], min over directions): the pair fades continuously to
 /// zero at `ℓ = δ_pd`, and nothing is left when it is separated
 /// (`δ_pd ≤ 0`). `ℓ − δ_pd` carries its exact gradient (`∇ℓ` in closed
@@ -187,47 +238,107 @@ pub(super) fn closest_point_contact(a: &FibreGeom, b: &FibreGeom, s: f64, t: f64
 /// rocking kink (measure zero). Why each piece: docs/contacts.md,
 /// "Side–side".
 ///
-/// Returns `(main, second)`; the caller weights the second contact (and,
-/// outside the interior case, the main one) by the parallel blend weight.
-pub(super) fn side_side(a: &FibreGeom, b: &FibreGeom, s: f64, t: f64) -> (Blend, Blend) {
+/// Returns the crossing alone (one point, weight 1) when the overlap's
+/// ends do not touch, else `(main, second)`: the caller weights the second
+/// contact (and, outside the interior case, the main one) by the parallel
+/// blend weight. `counters` counts the end-involved scans of the escape.
+pub(super) fn side_side(
+    a: &FibreGeom,
+    b: &FibreGeom,
+    s: f64,
+    t: f64,
+    counters: &mut KernelCounters,
+) -> SideSide {
     let cp = closest_point_contact(a, b, s, t);
+    let interior = s.abs() < a.half_length && t.abs() < b.half_length;
+    // The common crossing, decided before any end model: no end disc
+    // within the capsule reach of the other axis (so δ_lo, δ_hi ≤ 0, see
+    // below) and the crossing deep enough to beat their smooth maximum.
+    if interior && cp.depth >= 0.25 * TIE_BAND + CROSSING_BAND {
+        let clear = |f: &FibreGeom, o: &FibreGeom, sign: f64| {
+            let e = f.centre + sign * f.half_length * f.axis;
+            let t = o
+                .axis
+                .dot(e - o.centre)
+                .clamp(-o.half_length, o.half_length);
+            let reach = f.radius + o.radius;
+            (e - o.centre - t * o.axis).length_squared() >= reach * reach
+        };
+        if clear(a, b, 1.0) && clear(a, b, -1.0) && clear(b, a, 1.0) && clear(b, a, -1.0) {
+            return SideSide::Crossing(cp);
+        }
+    }
     let sb = sig(a.axis, b.axis);
     let lo = deeper(a_end(a, b, -1.0), b_end(a, b, -sb));
     let hi = deeper(a_end(a, b, 1.0), b_end(a, b, sb));
-    let (big, small) = if hi.depth > lo.depth {
-        (hi, lo)
-    } else {
-        (lo, hi)
+    // A crossing whose overlap ends do not touch: the smooth min of the
+    // ends is then ≤ 0 and the crossing beats their smooth max (≤ max +
+    // ε/4) by more than its band, so the model is exactly one point.
+    if interior
+        && lo.depth <= 0.0
+        && hi.depth <= 0.0
+        && cp.depth >= lo.depth.max(hi.depth) + 0.25 * TIE_BAND + CROSSING_BAND
+    {
+        return SideSide::Crossing(cp);
+    }
+    let line = SideSide::Line {
+        cp: interior.then_some(cp),
+        lo,
+        hi,
     };
-    let main = if big.depth >= cp.depth { big } else { cp };
+    let (lo_b, hi_b) = (Blend::single(lo), Blend::single(hi));
+    let first_depth = {
+        let ends = -smooth_min(-lo.depth, -hi.depth, TIE_BAND).0;
+        if interior {
+            -smooth_min(-cp.depth, -ends, CROSSING_BAND).0
+        } else {
+            ends
+        }
+    };
     let sin = a.axis.cross(b.axis).length();
     let ell = axial_overlap(a, b);
     // The switch lies TIE_BAND beyond ℓ = 2δ_main so that no smooth
-    // minimum below is active there (ℓ − δ_pd ≥ δ_main + ε ≥ δ_small + ε,
+    // minimum below is active there (ℓ − δ_pd ≥ δ_main + ε ≥ δ_2 + ε,
     // and the axial escape is ~ℓ).
     if !(sin < PARALLEL_SIN
-        && main.depth > 0.0
-        && ell.len < 2.0 * main.depth + TIE_BAND + (a.radius + b.radius) * sin)
+        && first_depth > 0.0
+        && ell.len < 2.0 * first_depth + TIE_BAND + (a.radius + b.radius) * sin)
     {
-        return (Blend::single(main), Blend::single(small));
+        return line;
     }
-    let pd = penetration(a, b, [main.normal, cp.normal]);
+    // The escape (rare: ends sliding past each other) composes Blends.
+    let second = lo_b.smin(hi_b);
+    let ends = lo_b.smax(hi_b, TIE_BAND);
+    let first = if interior {
+        Blend::single(cp).smax(ends, CROSSING_BAND)
+    } else {
+        ends
+    };
+    // The sideways contact's direction (its deepest candidate) seeds the
+    // fallback and tells whether the axial escape found the same contact.
+    let big = if hi.depth > lo.depth { hi } else { lo };
+    let main = if big.depth >= cp.depth { big } else { cp };
+    let pd = penetration(a, b, [main.normal, cp.normal], counters);
     // Main depth: smin(δ_side, δ_axial), the sideways and the over-the-end
     // escapes (a plain min switches the force direction in one step). When
-    // the search from the face normal slid down to the sideways minimum
-    // itself, the two are one contact: a plain min has no kink.
+    // the axial escape is the sideways minimum itself, the two are one
+    // contact: a plain min has no kink.
     let ax = axial_escape(a, b);
     let main = if ax.normal.dot(main.normal) > SAME_CONTACT_COS {
-        Blend::single(if ax.depth < main.depth { ax } else { main })
+        if ax.depth < first.depth {
+            Blend::single(ax)
+        } else {
+            first
+        }
     } else {
-        Blend::single(main).smin(Blend::single(ax))
+        first.smin(Blend::single(ax))
     };
-    // Second depth: min(smin(δ_small, ℓ − δ_pd), δ_pd + ε/4). The cap
+    // Second depth: min(smin(δ_2, ℓ − δ_pd), δ_pd + ε/4). The cap
     // ℓ − δ_pd fades the pair out as the ends slide past each other, with
     // its exact gradient: ∇ℓ in closed form, −∇_A δ_pd = the force F n at
     // pd's point. The cap by δ_pd removes the second contact with the first
     // when the pair separates; a plain min, offset by ε/4, since a true
-    // local depth never exceeds the penetration depth (δ_small ≤ δ_pd), so
+    // local depth never exceeds the penetration depth (δ_2 ≤ δ_pd), so
     // it only bites on the end model's capsule-like depths near the other
     // fibre's end.
     let arm = pd.point - a.centre;
@@ -241,7 +352,7 @@ pub(super) fn side_side(a: &FibreGeom, b: &FibreGeom, s: f64, t: f64) -> (Blend,
             torque: -ell.grad_rot - arm.cross(pd.normal),
         },
     );
-    let second = Blend::single(small).smin(capped);
+    let second = second.smin(capped);
     let pd_cap = pd.depth + 0.25 * TIE_BAND;
     let second = if pd_cap < second.depth {
         Blend::single(Cand {
@@ -251,5 +362,5 @@ pub(super) fn side_side(a: &FibreGeom, b: &FibreGeom, s: f64, t: f64) -> (Blend,
     } else {
         second
     };
-    (main, second)
+    SideSide::Escape(main, second)
 }

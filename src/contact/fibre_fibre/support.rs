@@ -28,10 +28,34 @@ fn support_exact(f: &FibreGeom, n: DVec3) -> f64 {
 /// Dome geometry of [`END_FACE_DOME_SIN`] for radius `r`: `(R, σ, cos θc)`.
 #[inline]
 fn dome(r: f64) -> (f64, f64, f64) {
-    let sin_c = END_FACE_DOME_SIN;
-    let cos_c = (1.0 - sin_c * sin_c).sqrt();
-    let big_r = r / sin_c;
-    (big_r, big_r * (1.0 - cos_c), cos_c)
+    let big_r = r / END_FACE_DOME_SIN;
+    (big_r, big_r * (1.0 - DOME_COS), DOME_COS)
+}
+
+/// `cos θc = √(1 − sin² θc)` for [`END_FACE_DOME_SIN`] = 1e-3, to the bit
+/// (a unit test recomputes it).
+const DOME_COS: f64 = 0.999_999_499_999_875;
+
+/// Cosine of the dome's half-angle θc: a direction `d` is supported by the
+/// cap of end `σ` iff `σ d·a ≥ dome_cos()`.
+#[inline]
+pub(super) fn dome_cos() -> f64 {
+    dome(1.0).2
+}
+
+/// Centre of the sphere whose cap is the dome of end `sigma` (radius
+/// `r/`[`END_FACE_DOME_SIN`], on the axis, inside the fibre): the cap point in
+/// the direction `n` is `dome_centre + R n` ([`support_branch`]).
+#[inline]
+pub(super) fn dome_centre(f: &FibreGeom, sigma: f64) -> DVec3 {
+    let (big_r, sag, _) = dome(f.radius);
+    f.centre + (sigma * (f.half_length + sag - big_r)) * f.axis
+}
+
+/// Radius of the end-face dome's sphere, `r/`[`END_FACE_DOME_SIN`].
+#[inline]
+pub(super) fn dome_radius(r: f64) -> f64 {
+    dome(r).0
 }
 
 /// Sag of the end-face dome ([`END_FACE_DOME_SIN`]) of a fibre of radius
@@ -104,5 +128,17 @@ pub(super) fn sig(d: DVec3, u: DVec3) -> f64 {
         1.0
     } else {
         -1.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Reference: the definition `cos θc = √(1 − sin² θc)`, evaluated.
+    #[test]
+    fn dome_cos_is_the_cosine_of_the_dome_angle() {
+        let sin_c = END_FACE_DOME_SIN;
+        assert_eq!(DOME_COS, (1.0 - sin_c * sin_c).sqrt());
     }
 }

@@ -1,16 +1,14 @@
-//! The penetration search of the end-involved regimes: the depth
+//! The iterative penetration search, now the fallback of the feature-pair
+//! kernels (end_involved.rs) where their scan is unsure: the depth
 //! `min_n h̃_B(n) + h̃_A(−n)` of the two domed cylinders (support.rs),
-//! found by local searches over the feature manifolds of that function,
-//! with its application point, and with two tied local minima blended.
-//!
-//! The whole interface of the end-involved depth is [`penetration`],
-//! [`penetration_smoothed`] and [`axial_escape`] (the feature minimisers
-//! [`circle_min`] and [`sphere_min`] also serve the parry check): an
-//! analytic end-involved kernel replaces this file. How the searches were
-//! made reliable: docs/contacts.md, "Penetration search".
+//! found by local searches over the feature manifolds of that function from
+//! seeds (parry's checked normal, the closest-point normal, competitive face
+//! normals), with two tied local minima blended. The feature minimisers
+//! [`circle_min`] and [`sphere_min`] also serve the parry check. How the
+//! searches were made reliable: docs/contacts.md, "Penetration search".
 
 use super::blend::{smooth_min_c2, Blend, END_TIE_BAND};
-use super::segment::segment_closest_params;
+use super::end_involved::contact_along;
 use super::support::{dome_sag, domed_projection_overlap as pov, sig, support, support_branch};
 use super::Cand;
 use crate::contact::FibreGeom;
@@ -69,7 +67,7 @@ pub(super) fn penetration_smoothed(a: &FibreGeom, b: &FibreGeom, seeds: [DVec3; 
 /// (cos 1e-4 rad) are one minimum found twice (different searches agree
 /// to ~1e-9 rad; a smooth minimum of a minimum with itself would
 /// under-estimate it by 3ε/16).
-const SAME_MINIMUM_COS: f64 = 1.0 - 5e-9;
+pub(super) const SAME_MINIMUM_COS: f64 = 1.0 - 5e-9;
 
 /// Result of [`depth_minima`]: the least value found (and its direction),
 /// and the least *local minimum* in another direction, if any was found.
@@ -242,83 +240,6 @@ fn depth_minima(a: &FibreGeom, b: &FibreGeom, seeds: [DVec3; 2], runner_up: bool
         best_n: s.best_n,
         runner_up: runner,
     }
-}
-
-/// The contact of a depth minimum `depth` at the unit direction `n` (force
-/// on A): its application point.
-fn contact_along(a: &FibreGeom, b: &FibreGeom, n: DVec3, depth: f64) -> Cand {
-    let (sb, _) = support(b, n);
-    let (sa, _) = support(a, -n);
-    // Use the support point of the body whose support is the more clearly
-    // unique. With domed faces the only degenerate supports are on the
-    // side circles (n·axis = 0: a generator line), so the clarity is |n·axis|
-    // (a sine, like the distance of the minimiser from that circle). The
-    // Newton searches land *near* such circles, not on them, so "more
-    // clearly" matters: a minimiser 1e-12 off B's side circle makes B's
-    // "unique" support an arbitrary end of its generator (history:
-    // docs/contacts.md, "Penetration search").
-    let (ca, cb) = (n.dot(a.axis).abs(), n.dot(b.axis).abs());
-    let point = if ca.max(cb) < SIDE_CIRCLE_TOL {
-        generator_crossing(a, b, n)
-    } else if ca >= cb {
-        sa + 0.5 * depth * n
-    } else {
-        sb - 0.5 * depth * n
-    };
-    Cand {
-        depth,
-        point,
-        normal: n,
-    }
-}
-
-/// Axial escape of a near-parallel pair: the local minimum of the domed
-/// projection overlap reached from the most competitive face normal (over
-/// the ends, as opposed to sideways). A smooth function of the pose where
-/// that minimum is unique.
-pub(super) fn axial_escape(a: &FibreGeom, b: &FibreGeom) -> Cand {
-    let mut face = a.axis;
-    let mut face_v = f64::INFINITY;
-    for u in [a.axis, -a.axis, b.axis, -b.axis] {
-        let v = pov(a, b, u);
-        if v < face_v {
-            face_v = v;
-            face = u;
-        }
-    }
-    let n = sphere_min(a, b, face, sig(-face, a.axis), sig(face, b.axis));
-    let v = pov(a, b, n);
-    if v < face_v {
-        contact_along(a, b, n, v)
-    } else {
-        contact_along(a, b, face, face_v)
-    }
-}
-
-/// Below this |n·axis| for both bodies, the depth minimiser is taken to be
-/// on both side circles (generators crossing, see [`generator_crossing`]).
-const SIDE_CIRCLE_TOL: f64 = 1e-7;
-
-/// Both supports are generator lines (`n ⊥` both axes): the contact point
-/// is midway between the closest points of the two generator segments.
-fn generator_crossing(a: &FibreGeom, b: &FibreGeom, n: DVec3) -> DVec3 {
-    let gen = |f: &FibreGeom, d: DVec3| {
-        let perp = d - d.dot(f.axis) * f.axis;
-        let l = perp.length();
-        let u = if l > 1e-300 {
-            perp / l
-        } else {
-            f.axis.any_orthonormal_vector()
-        };
-        FibreGeom {
-            centre: f.centre + f.radius * u,
-            radius: 0.0,
-            ..*f
-        }
-    };
-    let (ga, gb) = (gen(a, -n), gen(b, n));
-    let (s, t) = segment_closest_params(&ga, &gb);
-    0.5 * (ga.centre + s * ga.axis + gb.centre + t * gb.axis)
 }
 
 /// 1-D Newton (numerical derivatives, backtracking) on the great circle

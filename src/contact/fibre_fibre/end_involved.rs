@@ -1,0 +1,397 @@
+//! The end-involved depth of regimes 1 and 3 (and of the side–side axial
+//! escape): `min_n h̃_B(n) + h̃_A(−n)` of the two domed cylinders, as the
+//! least value over the stationary directions of every feature pair near
+//! the contact (features/), each evaluated exactly. Why this finds the
+//! minimum, and when it hands over to the iterative search: docs/contacts.md,
+//! "End-involved kernels".
+//!
+//! The interface is [`penetration`] (the plain minimum), [`penetration_smoothed`]
+//! (tied minima blended) and [`axial_escape`]; [`Scan`] is the one pass all
+//! three share.
+
+use super::blend::{push_weighted, smooth_min_c2, Blend, END_TIE_BAND};
+use super::features::{face_centre, face_face, face_side, rim_face, rim_rim, rim_side, Stationary};
+use super::parry_check::{confirm_separated, parry_contact};
+use super::search::{self, SAME_MINIMUM_COS};
+use super::segment::segment_closest_params;
+use super::side_side::closest_point_contact;
+use super::support::{dome_sag, domed_projection_overlap as pov, sig, support};
+use super::Cand;
+use crate::contact::{ContactPoint, FibreGeom, KernelCounters};
+use glam::DVec3;
+
+/// A feature candidate this close to the best value (relative to the
+/// radii) certifies it as a local minimum (the same direction reached by a
+/// cheap axis first).
+const CERTIFY_TOL: f64 = 1e-12;
+
+/// Room for every local minimum of one scan: 4 end-pair kernels for each of
+/// the 4 end pairs, 2 end kernels for each of the 4 ends.
+const MAX_MINIMA: usize = 24;
+
+/// What a scan concluded.
+enum Verdict {
+    /// Apart (a direction with a non-positive overlap, or no end near
+    /// enough to touch).
+    Separated,
+    /// The depth `best` > 0, a certified local minimum.
+    Touching,
+    /// No certified minimum, or an iteration that did not converge: the
+    /// iterative search decides.
+    Unsure,
+}
+
+/// One pass over the feature pairs of the ends near the contact.
+struct Scan<'g> {
+    a: &'g FibreGeom,
+    b: &'g FibreGeom,
+    /// Least value so far and its direction (force on A).
+    best: f64,
+    best_n: DVec3,
+    /// `best` is a local minimum found by a feature kernel.
+    certified: bool,
+    minima: [(f64, DVec3); MAX_MINIMA],
+    count: usize,
+    /// A kernel did not converge.
+    failed: bool,
+    /// Some end is near enough to touch.
+    any_near: bool,
+    /// Upper bound of any value that matters (the capsule bound plus both
+    /// sags plus the tie band).
+    reach: f64,
+}
+
+impl<'g> Scan<'g> {
+    /// The scan of `a` and `b`; with `stop_at_separation` it returns as
+    /// soon as a direction separates them (the contact kernel does not
+    /// need the separation distance, the side–side escape does).
+    fn run(a: &'g FibreGeom, b: &'g FibreGeom, stop_at_separation: bool) -> Self {
+        let (s, t) = segment_closest_params(a, b);
+        let cp = a.centre + s * a.axis - b.centre - t * b.axis;
+        let bound = a.radius + b.radius - cp.length();
+        let (sag_a, sag_b) = (dome_sag(a.radius), dome_sag(b.radius));
+        let mut scan = Scan {
+            a,
+            b,
+            best: f64::INFINITY,
+            best_n: DVec3::ZERO,
+            certified: false,
+            minima: [(0.0, DVec3::ZERO); MAX_MINIMA],
+            count: 0,
+            failed: false,
+            any_near: false,
+            reach: bound + sag_a + sag_b + END_TIE_BAND,
+        };
+        // Cheap axes first (the closest-point line, the centre line, the
+        // common normal): most near misses of the capsules are separated
+        // along one of them.
+        for d in [cp, a.centre - b.centre, a.axis.cross(b.axis)] {
+            scan.axis(d);
+            if stop_at_separation && scan.best <= 0.0 {
+                return scan;
+            }
+        }
+        // The depth is at most the least of these values (each an upper
+        // bound): no value above it plus the tie band matters.
+        scan.reach = scan.reach.min(scan.best.max(0.0) + END_TIE_BAND);
+        // An end can hold a minimum only if its disc lies within `reach`
+        // of the other body: a stationary value is ±|p_A − p_B| with both
+        // supports on the surfaces (docs/contacts.md, "End-involved kernels").
+        let lb = |f: &FibreGeom, sigma: f64, sag: f64, o: &FibreGeom| {
+            let e = face_centre(f, sigma);
+            let t = o
+                .axis
+                .dot(e - o.centre)
+                .clamp(-o.half_length, o.half_length);
+            (e - o.centre - t * o.axis).length() - f.radius - sag - o.radius
+        };
+        let lb_a = [1.0, -1.0].map(|sg| lb(a, sg, sag_a, b));
+        let lb_b = [1.0, -1.0].map(|sg| lb(b, sg, sag_b, a));
+        scan.any_near = lb_a.iter().chain(&lb_b).any(|&x| x <= scan.reach);
+        // Ends first (their values tighten `reach`, their rim–side points
+        // seed rim–rim), then the end pairs still within reach.
+        let mut rim_a = [None; 2];
+        let mut rim_b = [None; 2];
+        for (i, sg) in [1.0, -1.0].into_iter().enumerate() {
+            if lb_a[i] <= scan.reach {
+                scan.feature(face_side(a, sg, b), false);
+                rim_a[i] = scan.feature(rim_side(a, sg, b), false);
+            }
+            if lb_b[i] <= scan.reach {
+                scan.feature(face_side(b, sg, a), true);
+                rim_b[i] = scan.feature(rim_side(b, sg, a), true);
+            }
+        }
+        if stop_at_separation && scan.best <= 0.0 {
+            return scan;
+        }
+        scan.reach = scan.reach.min(scan.best.max(0.0) + END_TIE_BAND);
+        for (i, sa) in [1.0, -1.0].into_iter().enumerate() {
+            for (j, sb) in [1.0, -1.0].into_iter().enumerate() {
+                if !(lb_a[i] <= scan.reach && lb_b[j] <= scan.reach) {
+                    continue;
+                }
+                scan.feature(face_face(a, sa, b, sb), false);
+                scan.feature(rim_face(a, sa, b, sb), false);
+                scan.feature(rim_face(b, sb, a, sa), true);
+                let hints = [rim_a[i], rim_b[j]];
+                scan.feature(rim_rim(a, sa, b, sb, hints, scan.reach), false);
+            }
+        }
+        scan
+    }
+
+    /// A cheap axis `±d`: an upper bound, no minimum. Of the two signs only
+    /// the one pointing from B's centre towards A's is evaluated: for
+    /// centrally symmetric bodies `h(n) − h(−n) = 2 n·c`, so
+    /// `pov(n) − pov(−n) = 2 n·(c_B − c_A)`, and that sign is the lower.
+    fn axis(&mut self, d: DVec3) {
+        let l = d.length();
+        if !(l > 1e-300 && l.is_finite()) {
+            return;
+        }
+        let n = if d.dot(self.a.centre - self.b.centre) >= 0.0 {
+            d / l
+        } else {
+            -d / l
+        };
+        let v = pov(self.a, self.b, n);
+        if v < self.best {
+            (self.best, self.best_n, self.certified) = (v, n, false);
+        }
+    }
+
+    /// A feature kernel's answer; `from_b` when the kernel's first body is
+    /// B (its direction then points from A to B: the force on A is −n).
+    /// Returns the kernel's support point on its first body, if any.
+    fn feature(&mut self, st: Option<Stationary>, from_b: bool) -> Option<DVec3> {
+        let st = st?;
+        self.failed |= !st.converged;
+        let n = if from_b { -st.n } else { st.n };
+        let v = pov(self.a, self.b, n);
+        let tol = CERTIFY_TOL * (self.a.radius + self.b.radius);
+        if v < self.best - tol {
+            (self.best, self.best_n, self.certified) = (v, n, st.local_min);
+        } else if st.local_min && !self.certified && v <= self.best + tol {
+            // The same minimum a cheap axis (or an uncertified kernel)
+            // reached first: the kernel's direction is the minimiser.
+            (self.best, self.best_n, self.certified) = (v.min(self.best), n, true);
+        }
+        if st.local_min && self.count < MAX_MINIMA {
+            self.minima[self.count] = (v, n);
+            self.count += 1;
+        }
+        Some(st.point)
+    }
+
+    fn verdict(&self) -> Verdict {
+        if self.best <= 0.0 || !self.any_near {
+            Verdict::Separated
+        } else if self.best > self.reach {
+            if self.failed {
+                Verdict::Unsure
+            } else {
+                Verdict::Separated
+            }
+        } else if self.certified && !self.failed {
+            Verdict::Touching
+        } else {
+            Verdict::Unsure
+        }
+    }
+
+    /// The least local minimum in another direction than the best.
+    fn runner_up(&self) -> Option<(f64, DVec3)> {
+        let mut runner: Option<(f64, DVec3)> = None;
+        for &(v, n) in &self.minima[..self.count] {
+            if n.dot(self.best_n) < SAME_MINIMUM_COS && runner.is_none_or(|r| v < r.0) {
+                runner = Some((v, n));
+            }
+        }
+        runner
+    }
+}
+
+/// The end-involved depth (plain minimum) of `a` and `b` with its contact,
+/// for the side–side escape: exact while the depth is above `−reach`, and
+/// `−reach` (a separation beyond every value that matters there) when the
+/// scan proves the pair further apart. Falls back to the iterative search
+/// from `seeds` when the scan is unsure (counted in `counters`).
+pub(super) fn penetration(
+    a: &FibreGeom,
+    b: &FibreGeom,
+    seeds: [DVec3; 2],
+    counters: &mut KernelCounters,
+) -> Cand {
+    counters.end_scans += 1;
+    let scan = Scan::run(a, b, false);
+    match scan.verdict() {
+        Verdict::Touching => contact_along(a, b, scan.best_n, scan.best),
+        Verdict::Separated => {
+            let depth = if scan.best <= 0.0 {
+                scan.best.max(-scan.reach)
+            } else {
+                -scan.reach
+            };
+            contact_along(a, b, scan.best_n, depth)
+        }
+        Verdict::Unsure => {
+            counters.fallbacks += 1;
+            search::penetration(a, b, seeds)
+        }
+    }
+}
+
+/// The end-involved contacts of `a` and `b` with their ties smoothed,
+/// pushed to `out` with the overall `weight` (none when apart): [`penetration`]'s minimum `δ1` and, when the lowest *other*
+/// local minimum `δ2` (a different escape direction) is within
+/// [`END_TIE_BAND`] of it, their C² smooth minimum `m(δ1, δ2)`
+/// ([`smooth_min_c2`]), pushed as two contacts (one per minimum, its own
+/// normal and point) at depth `m` with weights `∂m/∂δ_i` (summing to 1):
+/// energy `U(m)`, forces its exact gradient (each minimum's by the envelope
+/// theorem). The weights depend on the pose only through `δ1, δ2` and sum to
+/// 1, so they carry no `ContactPoint::weight_grad` of their own (the
+/// caller's `weight` and `weight_grad` multiply them). C², not C¹: leap-frog's
+/// energy error follows the curvature of the potential (docs/contacts.md,
+/// "Ties"). When the scan is unsure, parry (checked) seeds the iterative
+/// search instead (seeded also by the closest-point normal), counted in
+/// `counters.fallbacks`.
+pub(super) fn penetration_smoothed(
+    a: &FibreGeom,
+    b: &FibreGeom,
+    out: &mut Vec<ContactPoint>,
+    weight: f64,
+    weight_grad: DVec3,
+    counters: &mut KernelCounters,
+) {
+    counters.end_scans += 1;
+    let scan = Scan::run(a, b, true);
+    match scan.verdict() {
+        Verdict::Separated => {}
+        Verdict::Touching => {
+            let first = contact_along(a, b, scan.best_n, scan.best);
+            match scan.runner_up() {
+                Some((v, n)) if v - scan.best < END_TIE_BAND => {
+                    let other = Blend::single(contact_along(a, b, n, v));
+                    Blend::single(first)
+                        .smin_by(other, |x, y| smooth_min_c2(x, y, END_TIE_BAND))
+                        .push(out, a, weight, weight_grad);
+                }
+                _ => push_weighted(out, first, weight, weight_grad),
+            }
+        }
+        Verdict::Unsure => {
+            counters.fallbacks += 1;
+            if let Some(blend) = fallback_smoothed(a, b, counters) {
+                blend.push(out, a, weight, weight_grad);
+            }
+        }
+    }
+}
+
+/// The iterative search of the previous kernel (search.rs), seeded by
+/// parry's checked normal; parry's "no contact" is confirmed by a
+/// separating axis.
+fn fallback_smoothed(a: &FibreGeom, b: &FibreGeom, counters: &mut KernelCounters) -> Option<Blend> {
+    let (s, t) = segment_closest_params(a, b);
+    let cp_normal = closest_point_contact(a, b, s, t).normal;
+    let bound = a.radius + b.radius - (a.centre + s * a.axis - b.centre - t * b.axis).length();
+    let margin = dome_sag(a.radius) + dome_sag(b.radius);
+    let parry_n = match parry_contact(a, b, bound, margin, counters) {
+        Ok(None) => {
+            confirm_separated(a, b, margin, cp_normal, counters);
+            return None;
+        }
+        Ok(Some(c)) => c.normal,
+        Err(n) => {
+            counters.parry_rejects += 1;
+            n
+        }
+    };
+    let blend = search::penetration_smoothed(a, b, [cp_normal, parry_n]);
+    (blend.depth > 0.0).then_some(blend)
+}
+
+/// Axial escape of a near-parallel pair: the least of the end-pair
+/// stationary directions (face–face, rim–face both ways, rim–rim) of the
+/// ends facing each other along the most competitive face normal (over the
+/// ends, as opposed to sideways), or that face normal itself. A smooth
+/// function of the pose where the least is unique.
+pub(super) fn axial_escape(a: &FibreGeom, b: &FibreGeom) -> Cand {
+    let mut face = a.axis;
+    let mut face_v = f64::INFINITY;
+    for u in [a.axis, -a.axis, b.axis, -b.axis] {
+        let v = pov(a, b, u);
+        if v < face_v {
+            face_v = v;
+            face = u;
+        }
+    }
+    let (fa, fb) = (sig(-face, a.axis), sig(face, b.axis));
+    let (mut best, mut best_n) = (face_v, face);
+    for (st, from_b) in [
+        (face_face(a, fa, b, fb), false),
+        (rim_face(a, fa, b, fb), false),
+        (rim_face(b, fb, a, fa), true),
+        (rim_rim(a, fa, b, fb, [None, None], f64::INFINITY), false),
+    ] {
+        if let Some(st) = st {
+            let n = if from_b { -st.n } else { st.n };
+            let v = pov(a, b, n);
+            if v < best {
+                (best, best_n) = (v, n);
+            }
+        }
+    }
+    contact_along(a, b, best_n, best)
+}
+
+/// Below this |n·axis| for both bodies, the depth minimiser is taken to be
+/// on both side circles (generators crossing, see [`generator_crossing`]).
+const SIDE_CIRCLE_TOL: f64 = 1e-7;
+
+/// The contact of a depth minimum `depth` at the unit direction `n` (force
+/// on A): its application point, on the body whose support is the more
+/// clearly unique. With domed faces the only degenerate supports are on the
+/// side circles (n·axis = 0: a generator line), so the clarity is
+/// |n·axis| (a sine, like the distance of the minimiser from that circle):
+/// a minimiser 1e-12 off B's side circle makes B's "unique" support an
+/// arbitrary end of its generator (history: docs/contacts.md, "Penetration
+/// search").
+pub(super) fn contact_along(a: &FibreGeom, b: &FibreGeom, n: DVec3, depth: f64) -> Cand {
+    let (ca, cb) = (n.dot(a.axis).abs(), n.dot(b.axis).abs());
+    let point = if ca.max(cb) < SIDE_CIRCLE_TOL {
+        generator_crossing(a, b, n)
+    } else if ca >= cb {
+        support(a, -n).0 + 0.5 * depth * n
+    } else {
+        support(b, n).0 - 0.5 * depth * n
+    };
+    Cand {
+        depth,
+        point,
+        normal: n,
+    }
+}
+
+/// Both supports are generator lines (`n ⊥` both axes): the contact point
+/// is midway between the closest points of the two generator segments.
+fn generator_crossing(a: &FibreGeom, b: &FibreGeom, n: DVec3) -> DVec3 {
+    let gen = |f: &FibreGeom, d: DVec3| {
+        let perp = d - d.dot(f.axis) * f.axis;
+        let l = perp.length();
+        let u = if l > 1e-300 {
+            perp / l
+        } else {
+            f.axis.any_orthonormal_vector()
+        };
+        FibreGeom {
+            centre: f.centre + f.radius * u,
+            radius: 0.0,
+            ..*f
+        }
+    };
+    let (ga, gb) = (gen(a, -n), gen(b, n));
+    let (s, t) = segment_closest_params(&ga, &gb);
+    0.5 * (ga.centre + s * ga.axis + gb.centre + t * gb.axis)
+}

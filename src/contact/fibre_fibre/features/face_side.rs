@@ -1,0 +1,33 @@
+//! Face–side: the domed face of one fibre on the side of the other (a
+//! T-junction, the face lying flat on a side). Sphere against the axis
+//! line: the perpendicular from the line to the dome centre, closed form.
+
+use super::{between_end_planes, cap_supports, direction, perp, Stationary};
+use crate::contact::fibre_fibre::support::{dome_centre, dome_radius};
+use crate::contact::FibreGeom;
+
+/// Face (cap) of `f`'s end `sf` against `o`'s side: the direction ⊥ `o`'s
+/// axis from it to `f`'s dome centre. `None` unless the face can be
+/// supported along a direction ⊥ `o`'s axis (`|a_f·a_o| ≤ sin θc`) or when
+/// the dome centre is on `o`'s axis. A local minimum when `f`'s support
+/// along it is the cap and that cap point lies between `o`'s end planes.
+pub(in crate::contact::fibre_fibre) fn face_side(
+    f: &FibreGeom,
+    sf: f64,
+    o: &FibreGeom,
+) -> Option<Stationary> {
+    use crate::contact::fibre_fibre::END_FACE_DOME_SIN;
+    if f.axis.dot(o.axis).abs() > END_FACE_DOME_SIN {
+        return None;
+    }
+    let s = dome_centre(f, sf);
+    let d = perp(s - o.centre, o.axis);
+    let n = direction(d)?;
+    let point = s - dome_radius(f.radius) * n;
+    Some(Stationary {
+        n,
+        point,
+        local_min: cap_supports(f, -n, sf) && between_end_planes(o, point),
+        converged: true,
+    })
+}

@@ -1,0 +1,38 @@
+//! Rim–face: a rim of one fibre on the domed face of the other (an L corner,
+//! a tilted end landing on a face). Circle against sphere: the rim point
+//! nearest the dome's centre, `p = e + r d⊥/|d⊥|`, closed form.
+
+use super::{cap_supports, direction, face_centre, perp, rim_supports, Stationary};
+use crate::contact::fibre_fibre::support::dome_centre;
+use crate::contact::FibreGeom;
+use std::cmp::Ordering;
+
+/// Rim of `f`'s end `sf` against the face (cap) of `o`'s end `so`: the
+/// direction from `o`'s dome centre `s` to `f`'s rim point nearest `s`.
+/// `None` when `s` lies over `f`'s face (`|d⊥| ≤ r`: the face, not the rim,
+/// faces it) or on `f`'s axis. A local minimum when `o`'s support along
+/// the direction is its cap and `f`'s the rim point.
+pub(in crate::contact::fibre_fibre) fn rim_face(
+    f: &FibreGeom,
+    sf: f64,
+    o: &FibreGeom,
+    so: f64,
+) -> Option<Stationary> {
+    let s = dome_centre(o, so);
+    let e = face_centre(f, sf);
+    let side = perp(s - e, f.axis);
+    let sl = side.length();
+    // (NaN included: not beyond the rim.)
+    if sl.partial_cmp(&f.radius) != Some(Ordering::Greater) {
+        return None;
+    }
+    let p = e + (f.radius / sl) * side;
+    let d = p - s;
+    let n = direction(d)?;
+    Some(Stationary {
+        n,
+        point: p,
+        local_min: cap_supports(o, n, so) && rim_supports(f, -n, sf, p),
+        converged: true,
+    })
+}

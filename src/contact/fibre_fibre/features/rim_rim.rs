@@ -1,0 +1,223 @@
+//! Rim–rim: a rim of each fibre (an L corner whose edges cross, two ends
+//! meeting edge on edge). Circle against circle has no closed form (its
+//! stationary points are the roots of a degree-8 polynomial), so this is
+//! Newton's method on the two rim angles for a stationary point of the
+//! squared distance `½|x(φ) − p(ψ)|²`, with the analytic Hessian, at most
+//! [`RIM_RIM_STEPS`] steps, from the closest of: where the rims cross each
+//! other's face planes (or, for near-parallel faces, on the line of the face
+//! centres), and the rim–side points of the two rims (a rim point nearest
+//! the other's axis that lies beyond the other's end plane is next to a
+//! rim–rim minimum).
+
+use super::{cap_supports, face_centre, perp, rim_supports, Stationary};
+use crate::contact::FibreGeom;
+use glam::DVec3;
+use std::cmp::Ordering;
+
+/// Newton steps of the rim–rim distance (quadratic convergence from the
+/// plane-crossing start: 3–5 steps on the poses of the tests).
+const RIM_RIM_STEPS: usize = 10;
+/// Converged when the last step (sum of both angles) is below this (rad).
+const RIM_RIM_TOL: f64 = 1e-10;
+/// Largest angle step (rad): keeps a poor start from jumping across the rim.
+const MAX_STEP: f64 = 0.5;
+/// Below this |sin| between the axes the face planes are taken as parallel
+/// for the start (their line of intersection is then far or ill defined).
+const PARALLEL_PLANES_SIN: f64 = 0.1;
+
+/// A rim circle `e + r (c w1 + s w2)` with `(c, s)` a unit pair.
+#[derive(Clone, Copy)]
+struct Rim {
+    e: DVec3,
+    r: f64,
+    w1: DVec3,
+    w2: DVec3,
+}
+
+impl Rim {
+    fn new(f: &FibreGeom, sigma: f64, toward: DVec3) -> Self {
+        let mut w1 = perp(toward, f.axis);
+        let l = w1.length();
+        w1 = if l > 1e-12 {
+            w1 / l
+        } else {
+            f.axis.any_orthonormal_vector()
+        };
+        Rim {
+            e: face_centre(f, sigma),
+            r: f.radius,
+            w1,
+            w2: f.axis.cross(w1),
+        }
+    }
+
+    #[inline]
+    fn at(&self, (c, s): (f64, f64)) -> DVec3 {
+        self.e + self.r * (c * self.w1 + s * self.w2)
+    }
+
+    #[inline]
+    fn tangent(&self, (c, s): (f64, f64)) -> DVec3 {
+        self.r * (c * self.w2 - s * self.w1)
+    }
+
+    /// The angle of the rim point nearest `x`.
+    fn nearest(&self, x: DVec3) -> (f64, f64) {
+        let d = x - self.e;
+        let (c, s) = (d.dot(self.w1), d.dot(self.w2));
+        let l = (c * c + s * s).sqrt();
+        if l > 0.0 {
+            (c / l, s / l)
+        } else {
+            (1.0, 0.0)
+        }
+    }
+
+    /// The two angles where the circle crosses the plane through `q` with
+    /// unit normal `m` (or comes nearest it), `w1` being along `m`'s
+    /// in-plane part.
+    fn plane_crossings(&self, q: DVec3, m: DVec3) -> [(f64, f64); 2] {
+        let k = self.w1.dot(m) * self.r;
+        let c = if k.abs() > 0.0 {
+            (-(self.e - q).dot(m) / k).clamp(-1.0, 1.0)
+        } else {
+            1.0
+        };
+        let s = (1.0 - c * c).max(0.0).sqrt();
+        [(c, s), (c, -s)]
+    }
+}
+
+/// Rotate the unit pair `(c, s)` by the angle `t` (tangent form, then
+/// renormalised).
+#[inline]
+fn turn((c, s): (f64, f64), t: f64) -> (f64, f64) {
+    let (c1, s1) = (c - s * t, s + c * t);
+    let l = (c1 * c1 + s1 * s1).sqrt();
+    (c1 / l, s1 / l)
+}
+
+/// Rim of `f`'s end `sf` against the rim of `o`'s end `so`: the direction
+/// from `o` towards `f` at a stationary point of the rims' distance (along
+/// `x − p` when they interpenetrate, the other way when apart; whichever
+/// the supports confirm). A local minimum when converged, the squared
+/// distance has a positive definite Hessian there (for depths small
+/// against the radii this is the depth's own minimum), and both supports
+/// along the direction are those rim points. `None` when the rims meet
+/// exactly (no direction), the iteration left the rims' neighbourhood, or
+/// the rims are further apart than `reach` (no value that matters).
+pub(in crate::contact::fibre_fibre) fn rim_rim(
+    f: &FibreGeom,
+    sf: f64,
+    o: &FibreGeom,
+    so: f64,
+    hints: [Option<DVec3>; 2],
+    reach: f64,
+) -> Option<Stationary> {
+    let (ef, eo) = (face_centre(f, sf), face_centre(o, so));
+    // A stationary value is ±|x − p|, at least the rims' distance: skip
+    // rims further apart than `reach` (bounding spheres; each rim's
+    // distance from the other's face plane).
+    let sin = f.axis.cross(o.axis).length();
+    let w = eo - ef;
+    if w.length() - f.radius - o.radius > reach
+        || w.dot(f.axis).abs() - o.radius * sin > reach
+        || w.dot(o.axis).abs() - f.radius * sin > reach
+    {
+        return None;
+    }
+    let planes_cross = sin >= PARALLEL_PLANES_SIN;
+    let (rf, ro) = if planes_cross {
+        // w1 of each rim along the other's face normal: the crossings of
+        // the other's face plane are then symmetric about w1.
+        (Rim::new(f, sf, o.axis), Rim::new(o, so, f.axis))
+    } else {
+        // Near-parallel faces: w1 facing the other face's centre.
+        (Rim::new(f, sf, eo - ef), Rim::new(o, so, ef - eo))
+    };
+    // Starts: the rims' crossings of each other's face planes (or, for
+    // near-parallel faces, the rim points facing each other), and each
+    // hint (a rim point of `f`, then of `o`, near the other body: the
+    // rim–side points) with the other rim's point nearest it; the closest
+    // pair wins.
+    let mut starts = [((1.0, 0.0), (1.0, 0.0)); 6];
+    let mut k = 1;
+    if planes_cross {
+        let cf = rf.plane_crossings(eo, o.axis);
+        let co = ro.plane_crossings(ef, f.axis);
+        k = 0;
+        for &x in &cf {
+            for &y in &co {
+                starts[k] = (x, y);
+                k += 1;
+            }
+        }
+    }
+    if let Some(h) = hints[0] {
+        let pf0 = rf.nearest(h);
+        starts[k] = (pf0, ro.nearest(rf.at(pf0)));
+        k += 1;
+    }
+    if let Some(h) = hints[1] {
+        let po0 = ro.nearest(h);
+        starts[k] = (rf.nearest(ro.at(po0)), po0);
+        k += 1;
+    }
+    let (mut pf, mut po) = starts[0];
+    let mut nearest = f64::INFINITY;
+    for &(x, y) in &starts[..k] {
+        let d = (ro.at(y) - rf.at(x)).length_squared();
+        if d < nearest {
+            (nearest, pf, po) = (d, x, y);
+        }
+    }
+    let mut converged = false;
+    let (mut h11, mut h22, mut h12) = (0.0, 0.0, 0.0);
+    for _ in 0..RIM_RIM_STEPS {
+        let (x, p) = (ro.at(po), rf.at(pf));
+        let (tx, tp) = (ro.tangent(po), rf.tangent(pf));
+        let d = x - p;
+        // F = ½|x − p|²: ∂F/∂φ = d·x', ∂F/∂ψ = −d·p'; x'' = −(x − e_o).
+        let (g1, g2) = (d.dot(tx), -d.dot(tp));
+        h11 = tx.dot(tx) - d.dot(x - ro.e);
+        h22 = tp.dot(tp) + d.dot(p - rf.e);
+        h12 = -tx.dot(tp);
+        let det = h11 * h22 - h12 * h12;
+        if det.abs().partial_cmp(&(1e-30 * (ro.r * rf.r).powi(2))) != Some(Ordering::Greater) {
+            break;
+        }
+        let dphi = (-(h22 * g1 - h12 * g2) / det).clamp(-MAX_STEP, MAX_STEP);
+        let dpsi = (-(h11 * g2 - h12 * g1) / det).clamp(-MAX_STEP, MAX_STEP);
+        po = turn(po, dphi);
+        pf = turn(pf, dpsi);
+        if dphi.abs() + dpsi.abs() < RIM_RIM_TOL {
+            converged = true;
+            break;
+        }
+    }
+    let (x, p) = (ro.at(po), rf.at(pf));
+    let d = x - p;
+    let l = d.length();
+    if !(l > 0.0 && l < ro.r + rf.r) {
+        return None;
+    }
+    // A degenerate Hessian (rims coaxial: a whole circle of stationary
+    // points) along a direction a cap supports is no rim–rim minimum: the
+    // faces hold it (face_face, rim_face).
+    let capped = |n: DVec3| cap_supports(o, n, so) || cap_supports(f, -n, sf);
+    if !converged && capped(d / l) && capped(-d / l) {
+        converged = true;
+    }
+    let positive_curvature = h11 > 0.0 && h11 * h22 - h12 * h12 > 0.0;
+    // Interpenetrating: x is beyond p along n (n = d/|d|); apart: −d/|d|.
+    let pick = [d / l, -d / l]
+        .into_iter()
+        .find(|&n| rim_supports(o, n, so, x) && rim_supports(f, -n, sf, p));
+    let n = pick.unwrap_or(d / l);
+    Some(Stationary {
+        n,
+        point: p,
+        local_min: converged && positive_curvature && pick.is_some(),
+        converged,
+    })
+}
