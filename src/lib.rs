@@ -35,6 +35,7 @@ pub mod math;
 pub mod output;
 pub mod plot;
 pub mod reference;
+pub mod render;
 pub mod run;
 pub mod scenario;
 pub mod stop;

@@ -417,13 +417,14 @@ fn impact_speed_replaces_the_bound() {
     let f = TC1;
     let m_eff = f.worst_effective_mass();
     assert!(out.contains("impact speed given: v_max = 3e0 m/s"), "{out}");
-    let row = numbers_after(line_with(&out, "same kind"), "same kind");
-    close(row[2], 3.0, "v_max of a pair");
+    let pairs = table(&out, "t_Hertz (s)");
+    let pair = row(&pairs, "fibre0 – fibre0 (same kind)");
+    close(num(pair, "v_max (m/s)"), 3.0, "v_max of a pair");
     let t_h = hertz_time(m_eff / 2.0, f.d / 4.0, e_star(f.e, f.nu, f.e, f.nu), 3.0);
-    close(row[3], t_h, "t_Hertz of a pair");
-    let wall = numbers_after(line_with(&out, "–wall"), "–wall");
+    close(num(pair, "t_Hertz (s)"), t_h, "t_Hertz of a pair");
+    let wall = row(&pairs, "fibre0 – wall");
     close(
-        wall[3],
+        num(wall, "t_Hertz (s)"),
         hertz_time(m_eff, f.d / 2.0, e_star(f.e, f.nu, 5e7, 0.23), 3.0),
         "t_Hertz on a wall",
     );

@@ -59,6 +59,8 @@ pub enum Command {
     Generate(GenerateArgs),
     /// Run a scenario with damping until its kinetic energy per fibre is below a threshold, then write the settled bed (an elastic scenario and its body file).
     Settle(SettleArgs),
+    /// Draw fibres as a PNG (a VTK frame or series, a trajectory, a checkpoint or a scenario's start), or a whole run as a GIF.
+    Render(RenderArgs),
 }
 
 #[derive(Debug, Args)]
@@ -180,6 +182,45 @@ pub struct SettleArgs {
     /// No progress bar and no summary on stdout.
     #[arg(long, short)]
     pub quiet: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// What to draw: fibres.pvd or a vtk/fibres_<step>.vtp frame, trajectory.csv, checkpoint.json, or a scenario .toml (its start).
+    pub input: PathBuf,
+    /// Output file [default: beside the input, <stem>.png, or <stem>.gif with --gif].
+    #[arg(short = 'o', long = "output")]
+    pub output: Option<PathBuf>,
+    /// Animate every frame (a .pvd or a trajectory.csv) into a GIF.
+    #[arg(long)]
+    pub gif: bool,
+    /// Colour by: speed, angle_z (axis against z), contacts, material, kinetic_energy, omega, z, id, or none.
+    #[arg(long, default_value = "speed")]
+    pub color: String,
+    /// Colour range LO,HI in the field's unit [default: the data's, over every frame of a GIF].
+    #[arg(long)]
+    pub range: Option<String>,
+    /// View direction, from the scene toward the camera: front, back, left, right, top, iso, or X,Y,Z.
+    #[arg(long, default_value = "iso")]
+    pub view: String,
+    /// Zoom factor (1: the box, or the fibres, fill the picture).
+    #[arg(long, default_value_t = 1.0)]
+    pub zoom: f64,
+    /// Picture size WxH in pixels.
+    #[arg(long, default_value = "1000x800")]
+    pub size: String,
+    /// Fibres as flat-ended cylinders or as capsules.
+    #[arg(long, default_value = "cylinder", value_parser = ["cylinder", "capsule"])]
+    pub shape: String,
+    /// Draw this step of a trajectory.csv or a .pvd [default: the last].
+    #[arg(long)]
+    pub step: Option<u64>,
+    /// Scenario of a trajectory.csv (its fibre sizes and box) [default: the `scenario` of the summary.json beside it].
+    #[arg(long)]
+    pub scenario: Option<PathBuf>,
+    /// GIF frames per second.
+    #[arg(long, default_value_t = 20.0)]
+    pub fps: f64,
 }
 
 #[derive(Debug, Args)]
@@ -345,6 +386,12 @@ pub struct RunArgs {
     /// Stop when a contact overlap exceeds this fraction of the diameter [default: guards.overlap_ratio, else 0.2].
     #[arg(long, allow_hyphen_values = true)]
     pub max_overlap: Option<f64>,
+    /// Write a VTK frame every N steps: <out>/vtk/fibres_<step>.vtp, listed with its time in <out>/fibres.pvd (open it in ParaView), and the box in <out>/box.vtp [default: output.vtk_every, else none].
+    #[arg(long, conflicts_with = "resume")]
+    pub vtk_every: Option<u64>,
+    /// Write every body's position, quaternion (w,x,y,z), velocity and world angular velocity to <out>/trajectory.csv every N steps [default: output.trajectory_every, else none].
+    #[arg(long, conflicts_with = "resume")]
+    pub trajectory_every: Option<u64>,
     /// Write <out>/checkpoint.json every N steps (Ctrl-C always writes one).
     #[arg(long, allow_negative_numbers = true)]
     pub checkpoint_every: Option<u64>,

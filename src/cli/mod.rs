@@ -86,6 +86,7 @@ pub fn execute(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Settle(args) => settle(args.plan()?),
+        Command::Render(args) => render(args.plan()?),
         Command::Stress(args) => {
             use crate::study::stress::{print_report, stress};
             let (cases, opts) = args.plan()?;
@@ -251,4 +252,18 @@ fn settle(plan: plan::SettlePlan) -> Result<()> {
             format!("the bed did not settle by t = {:e} s (kinetic energy {:.3e} J per fibre); the unsettled bed was written anyway; give a longer --t-end", s.steps as f64 * s.dt, ke / n),
         ))
     }
+}
+
+/// `fibresim render`: a still (PNG) or an animation (GIF).
+fn render(p: plan::RenderPlan) -> Result<()> {
+    use crate::render::{animate, still, Source};
+    let source = Source::open(&p.input, p.scenario.as_deref())?;
+    if p.gif {
+        let n = animate(&source, &p.opts, p.fps, &p.output)?;
+        println!("{} ({n} frames)", p.output.display());
+    } else {
+        let f = still(&source, p.step, &p.opts, &p.output)?;
+        println!("{} (step {}, t = {} s)", p.output.display(), f.step, f.t);
+    }
+    Ok(())
 }

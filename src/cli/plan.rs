@@ -3,7 +3,7 @@
 //! only execute.
 
 use super::args::{
-    CheckArgs, CompareArgs, ConvergeArgs, GenerateArgs, RunArgs, SettleArgs, StressArgs,
+    CheckArgs, CompareArgs, ConvergeArgs, GenerateArgs, RenderArgs, RunArgs, SettleArgs, StressArgs,
 };
 use crate::advice::{advise_with, Advice};
 use crate::contact::damping::Restitution;
@@ -23,7 +23,7 @@ use glam::DVec3;
 use std::path::{Path, PathBuf};
 
 /// The default scene of `fibresim run` with no scenario.
-const DEFAULT_SCENE: (&str, &str) = (
+pub(crate) const DEFAULT_SCENE: (&str, &str) = (
     "<built-in nine_fibres>",
     include_str!("../../scenarios/nine_fibres.toml"),
 );
@@ -88,6 +88,15 @@ fn run_scene(args: &RunArgs) -> Result<(Scene, String, Vec<String>)> {
             "--",
         )?;
     }
+    let o = &mut scene.output;
+    o.vtk_every = crate::scenario::output::cadence("command line", "--vtk-every", args.vtk_every)?
+        .or(o.vtk_every);
+    o.trajectory_every = crate::scenario::output::cadence(
+        "command line",
+        "--trajectory-every",
+        args.trajectory_every,
+    )?
+    .or(o.trajectory_every);
     if let Some(v) = args.max_energy_error {
         scene.guards.energy_error_pct = positive_flag("--max-energy-error", v)?;
     }
@@ -108,11 +117,16 @@ impl RunArgs {
     pub fn plan(self) -> Result<RunPlan> {
         let checkpoint = self.resume.as_deref().map(Checkpoint::read).transpose()?;
         let (scene, stem, warnings) = match &checkpoint {
-            Some(c) => (
-                crate::run::scene_from_checkpoint(c, self.t_end)?,
-                "resumed".to_string(),
-                vec![],
-            ),
+            Some(c) => {
+                let mut scene = crate::run::scene_from_checkpoint(c, self.t_end)?;
+                // The optional outputs the checkpointed run wrote, whether
+                // its scenario or its flags asked for them.
+                scene.output = crate::scenario::OutputRequest {
+                    vtk_every: crate::output::vtk::cadence_in(c)?,
+                    trajectory_every: crate::output::trajectory::cadence_in(c)?,
+                };
+                (scene, "resumed".to_string(), vec![])
+            }
             None => run_scene(&self)?,
         };
         if self.checkpoint_every == Some(0) {
@@ -591,6 +605,99 @@ impl SettleArgs {
             write_dt,
             write_t_end,
             quiet: self.quiet,
+        })
+    }
+}
+
+/// `fibresim render`, checked.
+pub struct RenderPlan {
+    /// The input file.
+    pub input: PathBuf,
+    /// The picture or animation to write.
+    pub output: PathBuf,
+    /// Animate every frame.
+    pub gif: bool,
+    /// The step of a still.
+    pub step: Option<u64>,
+    /// A trajectory's scenario.
+    pub scenario: Option<PathBuf>,
+    /// How to draw.
+    pub opts: crate::render::RenderOptions,
+    /// GIF frames per second.
+    pub fps: f64,
+}
+
+/// Two numbers `A<sep>B` of a flag.
+fn pair(flag: &str, s: &str, sep: char, example: &str) -> Result<(f64, f64)> {
+    let bad = || {
+        Error::bad(
+            "command line",
+            flag,
+            format!("`{s}` is not two numbers separated by `{sep}`; give e.g. {example}"),
+        )
+    };
+    let (a, b) = s.split_once(sep).ok_or_else(bad)?;
+    let a: f64 = a.trim().parse().map_err(|_| bad())?;
+    let b: f64 = b.trim().parse().map_err(|_| bad())?;
+    if a.is_finite() && b.is_finite() {
+        Ok((a, b))
+    } else {
+        Err(bad())
+    }
+}
+
+impl RenderArgs {
+    /// Check the flags.
+    pub fn plan(self) -> Result<RenderPlan> {
+        let field = crate::render::Field::from_name(&self.color)?;
+        let range = match &self.range {
+            Some(r) => {
+                let (lo, hi) = pair("--range", r, ',', "0,2")?;
+                if hi <= lo {
+                    return Err(Error::bad(
+                        "command line",
+                        "--range",
+                        format!("needs LO < HI, got {r}"),
+                    ));
+                }
+                Some((lo, hi))
+            }
+            None => None,
+        };
+        let (w, h) = pair("--size", &self.size, 'x', "1000x800")?;
+        if !(16.0..=8192.0).contains(&w)
+            || !(16.0..=8192.0).contains(&h)
+            || w.fract() != 0.0
+            || h.fract() != 0.0
+        {
+            return Err(Error::bad(
+                "command line",
+                "--size",
+                format!(
+                    "`{}`: width and height must be whole numbers from 16 to 8192",
+                    self.size
+                ),
+            ));
+        }
+        let output = self
+            .output
+            .unwrap_or_else(|| crate::render::default_output(&self.input, self.gif));
+        Ok(RenderPlan {
+            opts: crate::render::RenderOptions {
+                field,
+                range,
+                view: crate::render::view_direction(&self.view)?,
+                zoom: positive_flag("--zoom", self.zoom)?,
+                width: w as u32,
+                height: h as u32,
+                capsule: self.shape == "capsule",
+            },
+            fps: positive_flag("--fps", self.fps)?,
+            input: self.input,
+            output,
+            gif: self.gif,
+            step: self.step,
+            scenario: self.scenario,
         })
     }
 }

@@ -118,6 +118,37 @@ impl ContactStage {
         self.counters
     }
 
+    /// Touching bodies and walls per body (storage order) at the states of
+    /// the last [`ContactStage::compute`]: its candidates asked again
+    /// through the kernels. For output frames (VTK cell data, `render`), so
+    /// the step itself keeps no per-body counts and pays nothing for them.
+    #[cold]
+    #[inline(never)]
+    pub fn touching_per_body(&self) -> Vec<u32> {
+        let mut count = vec![0u32; self.geoms.len()];
+        let mut points = Vec::new();
+        let mut counters = KernelCounters::default();
+        let mut touch = |a: Collider, b: Collider| {
+            points.clear();
+            contacts(a, b, &mut points, &mut counters);
+            !points.is_empty()
+        };
+        for &(i, k) in &self.neighbours.walls {
+            let (i, wall) = (i as usize, &self.walls[k as usize]);
+            count[i] += touch(Collider::Fibre(&self.geoms[i]), Collider::Wall(wall)) as u32;
+        }
+        for &(a, b) in &self.neighbours.pairs {
+            let (a, b) = (a as usize, b as usize);
+            let t = touch(
+                Collider::Fibre(&self.geoms[a]),
+                Collider::Fibre(&self.geoms[b]),
+            ) as u32;
+            count[a] += t;
+            count[b] += t;
+        }
+        count
+    }
+
     /// Contact forces and torques (world) at `states`, written into `force` and
     /// `torque` (overwritten), with the laws of the table built by
     /// [`ContactStage::new`].

@@ -284,6 +284,22 @@ impl Checkpoint {
         })
     }
 
+    /// The cadence (steps) observer `name` saved as its state, if this
+    /// checkpoint's run had that observer.
+    pub fn cadence(&self, name: &str) -> Result<Option<u64>> {
+        if !self.observers.contains_key(name) {
+            return Ok(None);
+        }
+        match self.observer_state(name)?.as_slice() {
+            [e] if *e >= 1.0 && e.fract() == 0.0 => Ok(Some(*e as u64)),
+            _ => Err(Error::bad(
+                "checkpoint",
+                "observers",
+                format!("`{name}` needs its cadence (1 whole number)"),
+            )),
+        }
+    }
+
     /// Observer `name`'s saved state, as numbers.
     pub fn observer_state(&self, name: &str) -> Result<Vec<f64>> {
         let v = self.observers.get(name).ok_or_else(|| {

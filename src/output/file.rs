@@ -47,30 +47,7 @@ impl CsvFile {
 
     /// Open the file for appending after cutting it to `len` bytes (resume).
     pub fn reopen(&mut self, len: u64) -> Result<()> {
-        use std::io::{Seek, SeekFrom};
-        let path = self.path.clone();
-        let mut f = std::fs::OpenOptions::new()
-            .write(true)
-            .open(&path)
-            .map_err(|e| match e.kind() {
-                std::io::ErrorKind::NotFound => Error::bad(
-                    path.display().to_string(),
-                    "--resume",
-                    format!("the output file the checkpoint continues is missing ({e}); resume from the checkpoint in its own folder"),
-                ),
-                _ => Error::io(&path, e),
-            })?;
-        let have = f.metadata().map_err(|e| Error::io(&path, e))?.len();
-        if have < len {
-            // set_len would pad with zero bytes: the file is not the one checkpointed.
-            return Err(Error::bad(
-                path.display().to_string(),
-                "--resume",
-                format!("is {have} bytes, shorter than the {len} the checkpoint recorded: it was changed after the checkpoint; rerun from the start"),
-            ));
-        }
-        f.set_len(len).map_err(|e| Error::io(&path, e))?;
-        f.seek(SeekFrom::End(0)).map_err(|e| Error::io(&path, e))?;
+        let f = reopen_cut(&self.path, len)?;
         let w = csv::WriterBuilder::new()
             .has_headers(false)
             .from_writer(BufWriter::new(f));
@@ -100,4 +77,33 @@ impl CsvFile {
             .file_name()
             .map_or_else(String::new, |n| n.to_string_lossy().into_owned())
     }
+}
+
+/// An output file a checkpoint continues, cut to the `len` bytes it
+/// recorded and positioned at its end; bad input if it is missing or shorter.
+pub(crate) fn reopen_cut(path: &Path, len: u64) -> Result<File> {
+    use std::io::{Seek, SeekFrom};
+    let mut f = std::fs::OpenOptions::new()
+        .write(true)
+        .open(path)
+        .map_err(|e| match e.kind() {
+            std::io::ErrorKind::NotFound => Error::bad(
+                path.display().to_string(),
+                "--resume",
+                format!("the output file the checkpoint continues is missing ({e}); resume from the checkpoint in its own folder"),
+            ),
+            _ => Error::io(path, e),
+        })?;
+    let have = f.metadata().map_err(|e| Error::io(path, e))?.len();
+    if have < len {
+        // set_len would pad with zero bytes: the file is not the one checkpointed.
+        return Err(Error::bad(
+            path.display().to_string(),
+            "--resume",
+            format!("is {have} bytes, shorter than the {len} the checkpoint recorded: it was changed after the checkpoint; rerun from the start"),
+        ));
+    }
+    f.set_len(len).map_err(|e| Error::io(path, e))?;
+    f.seek(SeekFrom::End(0)).map_err(|e| Error::io(path, e))?;
+    Ok(f)
 }

@@ -1,21 +1,27 @@
 //! Observers of the driver loop that write files: `energy.csv`,
-//! `orientation.csv`, `summary.json`, checkpoints, and the progress bar.
+//! `orientation.csv`, `summary.json`, checkpoints, the progress bar, and on
+//! request `trajectory.csv` and the VTK series (`fibres.pvd`, `vtk/`).
 //!
 //! Numbers are written in their shortest round-trip form (ryu), so files are
 //! exact, compact and identical for identical runs.
 
 pub mod checkpoint;
+pub mod contact_count;
 pub mod energy;
 pub mod file;
 pub mod orientation;
 pub mod progress;
 pub mod summary;
+pub mod trajectory;
+pub mod vtk;
 
 pub use checkpoint::{Checkpoint, CheckpointFile};
 pub use energy::EnergyCsv;
 pub use orientation::OrientationCsv;
 pub use progress::Progress;
 pub use summary::{BodyFinal, Summary, SummaryJson};
+pub use trajectory::TrajectoryCsv;
+pub use vtk::VtkSeries;
 /// Create an output folder; failure is bad input naming `--out`.
 pub fn create_out_dir(dir: &std::path::Path) -> crate::error::Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| {

@@ -16,6 +16,7 @@ use crate::integrate::step::World;
 use crate::output::checkpoint::CHECKPOINT_FILE;
 use crate::output::{
     Checkpoint, CheckpointFile, EnergyCsv, OrientationCsv, Progress, Summary, SummaryJson,
+    TrajectoryCsv, VtkSeries,
 };
 use crate::scenario::{Scene, SimParams};
 use std::path::PathBuf;
@@ -42,7 +43,8 @@ pub struct RunOptions {
 
 /// Run `scene` with its rotator (`scene.sim.rotator()`), writing
 /// `energy.csv`, `orientation.csv` (scenes with a prescribed torque or a
-/// closed form) and `summary.json` into `opts.out_dir`. A run stopped by a
+/// closed form), `summary.json`, and what `scene.output` asks for
+/// (`trajectory.csv`, the VTK series) into `opts.out_dir`. A run stopped by a
 /// guard returns `Err(Error::Unstable)` after writing its outputs.
 pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
     run_from(scene, opts, None)
@@ -82,6 +84,11 @@ fn run_observed(
     let with_orientation = scene.has_prescribed_torque() || scene.reference.is_some();
     let mut orientation =
         with_orientation.then(|| OrientationCsv::new(dir, every, scene.reference.is_some()));
+    let mut trajectory = scene
+        .output
+        .trajectory_every
+        .map(|n| TrajectoryCsv::new(dir, n));
+    let mut vtk = scene.output.vtk_every.map(|n| VtkSeries::new(dir, n));
     let mut progress = progress;
     let mut summary = SummaryJson::new(dir, every).with_settle(opts.settle);
     let checkpoint_path = dir.join(CHECKPOINT_FILE);
@@ -90,6 +97,12 @@ fn run_observed(
     };
     let mut observers: Vec<&mut dyn Observer> = vec![&mut energy];
     if let Some(o) = &mut orientation {
+        observers.push(o);
+    }
+    if let Some(o) = &mut trajectory {
+        observers.push(o);
+    }
+    if let Some(o) = &mut vtk {
         observers.push(o);
     }
     if let Some(p) = &mut progress {

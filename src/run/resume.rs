@@ -76,6 +76,10 @@ pub fn copy_resume_outputs(
             )));
         }
         let dst = to.join(name);
+        // Outputs in subfolders (`vtk/fibres_<step>.vtp`).
+        if let Some(parent) = dst.parent() {
+            crate::output::create_out_dir(parent)?;
+        }
         let mut w = std::fs::File::create(&dst)
             .map_err(|e| crate::output::unwritable_at_start(Error::io(&dst, e)))?;
         std::io::copy(&mut f.take(len), &mut w).map_err(|e| Error::io(&dst, e))?;

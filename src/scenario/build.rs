@@ -239,6 +239,7 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
 
     Ok(Scene {
         damping,
+        output: super::output::build_output(src, raw.output.as_ref())?,
         guards,
         source: src.to_string(),
         text: String::new(),

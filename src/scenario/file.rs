@@ -31,6 +31,18 @@ pub struct ScenarioFile {
     /// `[guards]`: limits that stop a run early.
     #[serde(default)]
     pub guards: GuardsSection,
+    /// `[output]`: optional outputs (VTK series, trajectories).
+    pub output: Option<OutputSection>,
+}
+
+/// `[output]`: optional outputs and their cadences, in steps.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSection {
+    /// A VTK frame every this many steps.
+    pub vtk_every: Option<u64>,
+    /// A `trajectory.csv` row per body every this many steps.
+    pub trajectory_every: Option<u64>,
 }
 
 /// Limits that stop a run early with a diagnosis (defaults in `build::Guards`).

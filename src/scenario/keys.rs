@@ -73,6 +73,12 @@ pub const TABLES: &[TableSpec] = &[
         meaning: "bodies in bulk from a CSV body file (written by `fibresim generate` and `settle`); they join the `[[body]]` tables",
     },
     TableSpec {
+        name: "output",
+        form: Form::Single,
+        required: false,
+        meaning: "optional outputs and their cadences (`--vtk-every`, `--trajectory-every` override them); without it, none",
+    },
+    TableSpec {
         name: "contact",
         form: Form::Single,
         required: false,
@@ -323,6 +329,9 @@ pub const KEYS: &[Key] = &[
     Key { table: "reference", name: "spin", kind: Kind::Vec3, unit: "", need: Need::When { text: "for manufactured", when: manufactured }, meaning: "`[a, b, c]` of ψ(t) = a t + b (1 − cos(c t)) (rad/s, rad, rad/s)", example: "[10.0, 0.5, 3.0]", typical: None },
     // [bodies]
     Key { table: "bodies", name: "file", kind: Kind::Text, unit: "", need: REQUIRED, meaning: "CSV body file, relative to the scenario's folder: `id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wbx,wby,wbz,diameter,length,material` (SI units, ω in the body frame, floats in shortest round-trip form, `material` a `[material.NAME]`)", example: "\"bed_10k.bodies.csv\"", typical: None },
+    // [output]
+    Key { table: "output", name: "vtk_every", kind: Kind::Count, unit: "steps", need: Need::Optional("no VTK frames"), meaning: "a VTK frame every N steps: `vtk/fibres_<step>.vtp`, listed with its time in `fibres.pvd` (ParaView), and the box in `box.vtp`", example: "2000", typical: None },
+    Key { table: "output", name: "trajectory_every", kind: Kind::Count, unit: "steps", need: Need::Optional("no trajectory"), meaning: "a `trajectory.csv` row per body every N steps: position, quaternion (w, x, y, z), velocity, world angular velocity", example: "1000", typical: None },
     // [contact]
     Key { table: "contact", name: "restitution", kind: Kind::Positive, unit: "–", need: Need::Optional("1 (elastic)"), meaning: "normal restitution e of body–body contacts, in (0, 1]: Tsuji-type Hertzian damping (docs/physics.md), e independent of the impact speed", example: "0.3", typical: None },
     Key { table: "contact", name: "wall_restitution", kind: Kind::Positive, unit: "–", need: Need::Optional("`restitution`"), meaning: "normal restitution of body–wall contacts, in (0, 1]", example: "0.3", typical: None },

@@ -51,6 +51,8 @@ pub struct Scene {
     pub guards: Guards,
     /// Normal dissipation (`[contact]`); `None`: elastic contacts.
     pub damping: Option<crate::contact::damping::Restitution>,
+    /// Optional outputs (`[output]`, overridden by flags).
+    pub output: super::OutputRequest,
 }
 
 impl Scene {

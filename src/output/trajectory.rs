@@ -1,0 +1,90 @@
+//! `trajectory.csv` (`--trajectory-every N`, `[output] trajectory_every`):
+//! every body's pose and motion per row, world frame, for scripts and
+//! pandas (column names are a public contract). The numbers are the
+//! state's own f64 in shortest round-trip form, so the last row equals
+//! `summary.json`'s `final` bit for bit (`omega` is the world-frame
+//! `q ω_b q*`; the summary keeps the body frame).
+
+use super::file::{csv_err, not_open, CsvFile};
+use super::Row;
+use crate::error::Result;
+use crate::math::{to_world, wxyz};
+use crate::output::checkpoint::bits;
+use crate::output::Checkpoint;
+use crate::run::observer::{Observer, RunEnd, View};
+
+/// The file name in the output folder, and the observer's checkpoint name.
+pub const TRAJECTORY_FILE: &str = "trajectory.csv";
+
+/// The columns of `trajectory.csv`.
+pub const TRAJECTORY_COLUMNS: [&str; 16] = [
+    "step", "t", "body", "x", "y", "z", "qw", "qx", "qy", "qz", "vx", "vy", "vz", "wx", "wy", "wz",
+];
+
+/// The `trajectory.csv` observer.
+pub struct TrajectoryCsv {
+    file: CsvFile,
+    every: u64,
+}
+
+impl TrajectoryCsv {
+    /// `trajectory.csv` in `dir`, one row per body every `every` steps.
+    pub fn new(dir: &std::path::Path, every: u64) -> Self {
+        TrajectoryCsv {
+            file: CsvFile::at(dir.join(TRAJECTORY_FILE)),
+            every,
+        }
+    }
+}
+
+/// The trajectory cadence a checkpoint's run used, if it wrote one.
+pub fn cadence_in(c: &Checkpoint) -> Result<Option<u64>> {
+    c.cadence(TRAJECTORY_FILE)
+}
+
+impl Observer for TrajectoryCsv {
+    fn every(&self) -> Option<u64> {
+        Some(self.every)
+    }
+
+    fn start(&mut self, _v: &View) -> Result<()> {
+        self.file.create(&TRAJECTORY_COLUMNS)
+    }
+
+    fn row(&mut self, v: &View) -> Result<()> {
+        let w = v.world;
+        let (step, t) = (w.step, w.time());
+        let file = &mut self.file;
+        let path = &file.path;
+        let out = file.w.as_mut().ok_or_else(|| not_open(path))?;
+        for (s, &id) in w.states.iter().zip(&w.scene.ids) {
+            let omega = to_world(s.rot.q, s.rot.omega_b);
+            let mut write = || -> csv::Result<()> {
+                let mut row = Row::new(out);
+                row.u(step)?.f(t)?.u(id)?;
+                let values = s.x.to_array().into_iter().chain(wxyz(s.rot.q));
+                for c in values.chain(s.v.to_array()).chain(omega.to_array()) {
+                    row.f(c)?;
+                }
+                row.end()
+            };
+            write().map_err(|e| csv_err(path, e))?;
+        }
+        Ok(())
+    }
+
+    fn checkpoint(&mut self, c: &mut Checkpoint) -> Result<()> {
+        c.outputs.insert(self.file.name(), self.file.flushed_len()?);
+        c.observers
+            .insert(TRAJECTORY_FILE.into(), vec![bits(self.every as f64)]);
+        Ok(())
+    }
+
+    fn resume(&mut self, c: &Checkpoint) -> Result<()> {
+        self.file.reopen(c.output_len(TRAJECTORY_FILE)?)
+    }
+
+    fn finish(&mut self, _v: &View, _end: &RunEnd) -> Result<()> {
+        self.file.flush()
+    }
+}

@@ -1,0 +1,71 @@
+//! The `.pvd` collection that ParaView opens as an animation: one
+//! `DataSet` per frame with its physical time. The file is valid after every
+//! frame: each new entry overwrites the closing tags and writes them again.
+//! A checkpoint records the length without the closing tags, so a resumed
+//! run (or a copy of the folder cut to the checkpoint) continues the list.
+
+use crate::error::{Error, Result};
+use std::fs::File;
+use std::io::{Seek, SeekFrom, Write};
+use std::path::PathBuf;
+
+const HEAD: &str = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<Collection>\n";
+const TAIL: &str = "</Collection>\n</VTKFile>\n";
+
+/// An open `.pvd` file.
+pub(crate) struct Pvd {
+    pub path: PathBuf,
+    file: Option<File>,
+    /// Bytes before the closing tags.
+    pub body_len: u64,
+}
+
+impl Pvd {
+    pub fn at(path: PathBuf) -> Self {
+        Pvd {
+            path,
+            file: None,
+            body_len: 0,
+        }
+    }
+
+    /// A new, empty collection.
+    pub fn create(&mut self) -> Result<()> {
+        let mut f = File::create(&self.path).map_err(|e| Error::io(&self.path, e))?;
+        f.write_all(HEAD.as_bytes())
+            .and_then(|_| f.write_all(TAIL.as_bytes()))
+            .map_err(|e| Error::io(&self.path, e))?;
+        self.body_len = HEAD.len() as u64;
+        self.file = Some(f);
+        Ok(())
+    }
+
+    /// Continue a collection cut to `len` bytes (a checkpoint's length).
+    pub fn reopen(&mut self, len: u64) -> Result<()> {
+        let mut f = crate::output::file::reopen_cut(&self.path, len)?;
+        f.write_all(TAIL.as_bytes())
+            .map_err(|e| Error::io(&self.path, e))?;
+        self.body_len = len;
+        self.file = Some(f);
+        Ok(())
+    }
+
+    /// Add the frame `file` (relative to the collection) at time `t`.
+    pub fn push(&mut self, t: f64, file: &str) -> Result<()> {
+        let path = &self.path;
+        let f = self
+            .file
+            .as_mut()
+            .ok_or_else(|| super::super::file::not_open(path))?;
+        let entry = format!(
+            "<DataSet timestep=\"{}\" part=\"0\" file=\"{file}\"/>\n",
+            ryu::Buffer::new().format(t)
+        );
+        f.seek(SeekFrom::Start(self.body_len))
+            .and_then(|_| f.write_all(entry.as_bytes()))
+            .and_then(|_| f.write_all(TAIL.as_bytes()))
+            .map_err(|e| Error::io(path, e))?;
+        self.body_len += entry.len() as u64;
+        Ok(())
+    }
+}
