@@ -175,7 +175,7 @@ fn drive_with<'s, R: Rotator>(
         let interrupted = interrupt.is_some_and(|(flag, _)| flag.load(Ordering::Relaxed));
         settled = control
             .settle
-            .is_some_and(|s| world.step % s.every == 0 && s.reached(&world));
+            .is_some_and(|s| world.step.is_multiple_of(s.every) && s.reached(&world));
         if world.step < next && !interrupted && !settled {
             continue;
         }
