@@ -122,3 +122,26 @@ fn settle_refuses_elastic_scenes_and_reports_an_unsettled_bed() {
         .unwrap()
         .contains("NOT settled"));
 }
+
+/// A settled bed keeps its resting wall contacts: a fibre 1e-5 m into the
+/// floor (0.1 % of D) loads when `guards.start_overlap_ratio` allows it, and
+/// is refused, naming the wall, when it does not.
+#[test]
+fn resting_wall_contacts_load_within_the_start_overlap() {
+    let scene = |guards: &str| {
+        format!(
+            "[simulation]\ndt = 1e-6\nt_end = 1e-5\n[world]\ngravity = [0.0, 0.0, -9.81]\n[box]\nmin = [0.0, 0.0, 0.0]\nmax = [0.1, 0.1, 0.1]\nyoung = 5e7\npoisson = 0.35\n[[body]]\nshape = \"fibre\"\ndiameter = 0.01\nlength = 0.03\ndensity = 1100.0\nyoung = 5e7\npoisson = 0.35\nposition = [0.05, 0.05, 0.00499]\n{guards}"
+        )
+    };
+    let ok =
+        fibresim::scenario::parse_str(&scene("[guards]\nstart_overlap_ratio = 0.01\n"), "bed.toml");
+    assert!(ok.is_ok(), "{:?}", ok.err());
+    let refused = fibresim::scenario::parse_str(&scene(""), "bed.toml")
+        .map(|_| ())
+        .expect_err("an overlap with the floor is refused by default")
+        .to_string();
+    assert!(
+        refused.contains("box") || refused.contains("wall"),
+        "{refused}"
+    );
+}

@@ -185,7 +185,7 @@ impl fmt::Display for CheckReport<'_> {
             _ if !scene.needs_contacts() => "off".to_string(),
             1 => "walls only".into(),
             n if n <= 32 => format!("{n} bodies, all pairs"),
-            n => format!("{n} bodies, sort-and-sweep"),
+            n => format!("{n} bodies, cell grid"),
         };
         writeln!(
             f,

@@ -220,7 +220,9 @@ fn settle(plan: plan::SettlePlan) -> Result<()> {
         walls: scene.walls.as_ref(),
         materials: &scene.materials,
         restitution: None,
-        start_overlap_ratio: Some(crate::generate::SETTLED_START_OVERLAP),
+        start_overlap_ratio: Some(crate::generate::settled_start_overlap(
+            s.max_overlap_ratio.unwrap_or(0.0),
+        )),
         body_file: &body_file
             .file_name()
             .map_or(String::new(), |f| f.to_string_lossy().into_owned()),

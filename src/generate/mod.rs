@@ -15,9 +15,13 @@ use place::Placement;
 use sample::Rng;
 use std::path::PathBuf;
 
-/// `guards.start_overlap_ratio` of a settled bed's scenario: its resting
-/// contacts overlap by ~1e-5 D under gravity; a placement error by far more.
-pub const SETTLED_START_OVERLAP: f64 = 0.01;
+/// `guards.start_overlap_ratio` of a settled bed's scenario: the largest
+/// overlap ratio the settling run saw (an upper bound of the resting ones;
+/// the bottom of the 10⁴-fibre bed rests at ~1 % of D under the pile's
+/// weight), rounded up to 3 decimals, and at least 0.01.
+pub fn settled_start_overlap(max_overlap_ratio: f64) -> f64 {
+    ((max_overlap_ratio * 1000.0).ceil() / 1000.0).max(0.01)
+}
 
 /// Initial velocities of the fibres.
 #[derive(Debug, Clone, Copy, PartialEq)]
