@@ -137,10 +137,16 @@ impl RunArgs {
             ));
         }
         if scene.damping.is_some() && (self.checkpoint_every.is_some() || checkpoint.is_some()) {
+            // Name the flag the user gave: a checkpoint left by Ctrl-C is
+            // refused on --resume, not on --checkpoint-every.
+            let (flag, fix) = match checkpoint {
+                Some(_) => ("--resume", "rerun the scene from its start"),
+                None => ("--checkpoint-every", "run without --checkpoint-every"),
+            };
             return Err(Error::bad(
                 &scene.source,
-                "--checkpoint-every",
-                "checkpoints of scenes with damping ([contact] restitution < 1) are not supported yet: their forces depend on the half-step velocities, which a checkpoint does not hold; run without --checkpoint-every",
+                flag,
+                format!("checkpoints of scenes with damping ([contact] restitution < 1) are not supported yet: their forces depend on the half-step velocities, which a checkpoint does not hold; {fix}"),
             ));
         }
         let impact = self
