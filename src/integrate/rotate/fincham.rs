@@ -45,8 +45,8 @@ impl<const MID: bool> Rotator for FinchamScheme<MID> {
             symplectic: false,
             reversible: false,
             torque_evals: 1,
-            torque_contract: "half-kicks with the torque at (t_n, q_n) and (t_n+1, q_n+1), one evaluation per step",
-            contact_contract: "opening half-kick with the start-of-step contact torque, closing half-kick with the torque of the new configuration",
+            torque_contract: super::KDK_TORQUE_CONTRACT,
+            contact_contract: super::KDK_CONTACT_CONTRACT,
             closing_kick: true,
             diagnostic: false,
         }
@@ -60,8 +60,8 @@ impl<const MID: bool> Rotator for FinchamScheme<MID> {
             symplectic: false,
             reversible: false,
             torque_evals: 1,
-            torque_contract: "half-kicks with the torque at (t_n, q_n) and (t_n+1, q_n+1), one evaluation per step",
-            contact_contract: "opening half-kick with the start-of-step contact torque, closing half-kick with the torque of the new configuration",
+            torque_contract: super::KDK_TORQUE_CONTRACT,
+            contact_contract: super::KDK_CONTACT_CONTRACT,
             closing_kick: true,
             diagnostic: false,
         }

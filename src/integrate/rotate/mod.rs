@@ -109,6 +109,14 @@ pub enum RotatorFault {
     },
 }
 
+/// The torque contract every kick–drift–kick scheme shares (half-kicks of
+/// the angular momentum around a torque-free drift).
+pub(crate) const KDK_TORQUE_CONTRACT: &str =
+    "half-kicks with the torque at (t_n, q_n) and (t_n+1, q_n+1), one evaluation per step";
+/// The contact contract every kick–drift–kick scheme shares.
+pub(crate) const KDK_CONTACT_CONTRACT: &str =
+    "opening half-kick with the start-of-step contact torque, closing half-kick with the torque of the new configuration";
+
 /// Facts about a scheme, read by `--help`, `fibresim rotators`, the README
 /// table and the tests: the one place each is written.
 #[derive(Debug, Clone, Copy)]
