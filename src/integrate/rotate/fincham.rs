@@ -22,7 +22,7 @@
 
 use super::{Fsal, Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};
-use crate::math::{is_zero, pure, to_body, to_world, torque_to_body};
+use crate::math::{pure, to_body, to_world, torque_to_body};
 use glam::DVec3;
 
 /// Fincham's leap-frog as Yade codes it (half-step momentum converted with `q_n`).
@@ -103,9 +103,6 @@ impl<const MID: bool> Rotator for FinchamScheme<MID> {
         t_end: f64,
         h: f64,
     ) {
-        let tau = aux.take(t_end, &torque);
-        if !is_zero(tau) {
-            rot.omega_b += (0.5 * h) * inertia.inverse * to_body(rot.q, tau);
-        }
+        aux.closing_half_kick(rot, inertia, &torque, t_end, h);
     }
 }

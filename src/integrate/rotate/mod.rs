@@ -218,6 +218,25 @@ impl Fsal {
         self.t = t;
         self.tau
     }
+
+    /// The closing half-kick of the world angular momentum, held in the
+    /// body frame: `ω_b += (h/2) I⁻¹ q* τ(t_end) q`, the torque kept for the
+    /// next opening kick (the `finish` of the kick–drift–kick schemes whose
+    /// drift is torque-free).
+    #[inline]
+    pub fn closing_half_kick<T: Fn(f64) -> DVec3>(
+        &mut self,
+        rot: &mut RotState,
+        inertia: &Inertia,
+        torque: &T,
+        t_end: f64,
+        h: f64,
+    ) {
+        let tau = self.take(t_end, torque);
+        if !crate::math::is_zero(tau) {
+            rot.omega_b += (0.5 * h) * inertia.inverse * crate::math::to_body(rot.q, tau);
+        }
+    }
 }
 
 impl AuxState for Fsal {

@@ -30,7 +30,6 @@
 
 use super::{Fsal, Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};
-use crate::math::to_body;
 use glam::{DQuat, DVec3};
 
 /// Miller et al.'s NO_SQUISH splitting.
@@ -177,10 +176,7 @@ impl Rotator for NoSquish {
         t_end: f64,
         h: f64,
     ) {
-        let tau = aux.take(t_end, &torque);
-        if !crate::math::is_zero(tau) {
-            rot.omega_b += (0.5 * h) * inertia.inverse * to_body(rot.q, tau);
-        }
+        aux.closing_half_kick(rot, inertia, &torque, t_end, h);
     }
 }
 

@@ -19,7 +19,7 @@
 
 use super::{Fsal, Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};
-use crate::math::{is_zero, pure, to_body, torque_to_body};
+use crate::math::{pure, to_body, torque_to_body};
 use glam::{DQuat, DVec3};
 
 /// LAMMPS's Richardson-iteration quaternion update.
@@ -84,9 +84,6 @@ impl Rotator for Richardson {
         t_end: f64,
         h: f64,
     ) {
-        let tau = aux.take(t_end, &torque);
-        if !is_zero(tau) {
-            rot.omega_b += (0.5 * h) * inertia.inverse * to_body(rot.q, tau);
-        }
+        aux.closing_half_kick(rot, inertia, &torque, t_end, h);
     }
 }
