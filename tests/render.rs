@@ -4,13 +4,8 @@
 //! GIF has one frame per VTK frame; bad flags and inputs are exit 2.
 
 mod common;
-use common::fibresim;
+use common::{fibresim, ok};
 use std::path::Path;
-
-fn ok(o: std::process::Output) -> String {
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
 
 /// Decoded RGB pixels and the size.
 fn png(p: &Path) -> (Vec<u8>, u32, u32) {

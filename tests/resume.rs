@@ -3,18 +3,10 @@
 //! and after a real SIGINT.
 
 mod common;
-use common::fibresim;
+use common::{fibresim, ok, read_bytes, resume_to};
 
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn ok(o: Output) {
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-}
-
-fn read(p: &Path) -> Vec<u8> {
-    std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
-}
+use std::process::Command;
 
 /// A fibre dropped at 30° close to the floor: it hits the floor within T.
 const DROP: &str = r#"
@@ -74,18 +66,16 @@ fn split_run_equals_whole(scene_text: &str, files: &[&str], extra: &[&str]) {
     b.extend(extra);
     ok(fibresim(&b));
     let ckpt = split.join("checkpoint.json");
-    ok(fibresim(&[
-        "run",
-        "--resume",
-        ckpt.to_str().unwrap(),
-        "--t-end",
-        "0.04",
-        "-q",
-    ]));
+    resume_to(&ckpt, "0.04", &[]);
     for f in files {
-        assert_eq!(read(&whole.join(f)), read(&split.join(f)), "{f} differs");
+        assert_eq!(
+            read_bytes(&whole.join(f)),
+            read_bytes(&split.join(f)),
+            "{f} differs"
+        );
     }
-    let s: serde_json::Value = serde_json::from_slice(&read(&split.join("summary.json"))).unwrap();
+    let s: serde_json::Value =
+        serde_json::from_slice(&read_bytes(&split.join("summary.json"))).unwrap();
     assert_eq!(s["steps"], 40000);
 }
 
@@ -145,28 +135,20 @@ fn resume_into_another_folder_gives_the_same_bytes() {
     run(&whole, &[]);
     // Checkpoint at 0.015 s, then the run goes on to 0.02 s in its own folder.
     run(&split, &["--t-end", "0.02", "--checkpoint-every", "15000"]);
-    let before = read(&split.join("energy.csv"));
+    let before = read_bytes(&split.join("energy.csv"));
     let ckpt = split.join("checkpoint.json");
-    ok(fibresim(&[
-        "run",
-        "--resume",
-        ckpt.to_str().unwrap(),
-        "--t-end",
-        "0.04",
-        "-q",
-        "--out",
-        moved.to_str().unwrap(),
-    ]));
+    resume_to(&ckpt, "0.04", &["--out", moved.to_str().unwrap()]);
     assert_eq!(
-        read(&whole.join("energy.csv")),
-        read(&moved.join("energy.csv"))
+        read_bytes(&whole.join("energy.csv")),
+        read_bytes(&moved.join("energy.csv"))
     );
     assert_eq!(
-        read(&split.join("energy.csv")),
+        read_bytes(&split.join("energy.csv")),
         before,
         "source folder changed"
     );
-    let s: serde_json::Value = serde_json::from_slice(&read(&moved.join("summary.json"))).unwrap();
+    let s: serde_json::Value =
+        serde_json::from_slice(&read_bytes(&moved.join("summary.json"))).unwrap();
     assert_eq!(s["steps"], 40000);
 }
 
@@ -221,7 +203,8 @@ fn sigint_writes_a_checkpoint_and_resume_completes_identically() {
         })
         .expect("every run finished before SIGINT arrived: nothing was tested");
     assert_eq!(status.code(), Some(130));
-    let s: serde_json::Value = serde_json::from_slice(&read(&cut.join("summary.json"))).unwrap();
+    let s: serde_json::Value =
+        serde_json::from_slice(&read_bytes(&cut.join("summary.json"))).unwrap();
     assert!(s["stopped"]["kind"]
         .as_str()
         .unwrap()
@@ -229,17 +212,10 @@ fn sigint_writes_a_checkpoint_and_resume_completes_identically() {
     // Resume to a little past the interrupt (a multiple of --every, so the
     // last row is on cadence) and compare with an uninterrupted run to there.
     let ckpt = cut.join("checkpoint.json");
-    let c: serde_json::Value = serde_json::from_slice(&read(&ckpt)).unwrap();
+    let c: serde_json::Value = serde_json::from_slice(&read_bytes(&ckpt)).unwrap();
     let steps = (c["step"].as_u64().unwrap() / 1000 + 50) * 1000;
     let t = format!("{:e}", steps as f64 * 1e-6);
-    ok(fibresim(&[
-        "run",
-        "--resume",
-        ckpt.to_str().unwrap(),
-        "--t-end",
-        &t,
-        "-q",
-    ]));
+    resume_to(&ckpt, &t, &[]);
     let whole = dir.path().join("whole");
     let scene = scene.to_str().unwrap();
     ok(fibresim(&[
@@ -254,10 +230,11 @@ fn sigint_writes_a_checkpoint_and_resume_completes_identically() {
         whole.to_str().unwrap(),
     ]));
     assert_eq!(
-        read(&whole.join("energy.csv")),
-        read(&cut.join("energy.csv"))
+        read_bytes(&whole.join("energy.csv")),
+        read_bytes(&cut.join("energy.csv"))
     );
-    let s: serde_json::Value = serde_json::from_slice(&read(&cut.join("summary.json"))).unwrap();
+    let s: serde_json::Value =
+        serde_json::from_slice(&read_bytes(&cut.join("summary.json"))).unwrap();
     assert_eq!(s["steps"].as_u64(), Some(steps));
 }
 
@@ -295,22 +272,13 @@ fn resume_of_a_dense_scene_gives_the_same_bytes() {
         states <= 200 * 384,
         "{states} bytes of states for 384 fibres"
     );
-    ok(fibresim(&[
-        "run",
-        "--resume",
-        ckpt.to_str().unwrap(),
-        "--t-end",
-        "6e-4",
-        "--threads",
-        "2",
-        "-q",
-    ]));
+    resume_to(&ckpt, "6e-4", &["--threads", "2"]);
     assert_eq!(
-        read(&whole.join("energy.csv")),
-        read(&split.join("energy.csv"))
+        read_bytes(&whole.join("energy.csv")),
+        read_bytes(&split.join("energy.csv"))
     );
     let strip = |p: &Path| -> String {
-        String::from_utf8(read(p))
+        String::from_utf8(read_bytes(p))
             .unwrap()
             .lines()
             .filter(|l| !l.contains("\"wall_") && !l.contains("ns_per_body_step"))
@@ -342,7 +310,7 @@ fn a_tampered_states_file_is_refused() {
         out.to_str().unwrap(),
     ]));
     let states = out.join("checkpoint.states");
-    let mut bytes = read(&states);
+    let mut bytes = read_bytes(&states);
     let last = bytes.len() - 1;
     bytes[last] ^= 1;
     std::fs::write(&states, bytes).unwrap();

@@ -8,17 +8,11 @@
 //! checks a series through `scripts/check_vtk.py` when it is installed.
 
 mod common;
-use common::fibresim;
+use common::{fibresim, ok, resume_to};
 
 use fibresim::output::vtk::read::{read_pvd, read_vtp, Vtp};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::process::Output;
-
-fn ok(o: Output) -> Output {
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    o
-}
 
 fn nine(dir: &Path, extra: &[&str]) -> PathBuf {
     let out = dir.join("o");
@@ -433,24 +427,8 @@ fn a_resumed_run_writes_the_same_vtk_bytes() {
     ]));
     let moved = dir.path().join("moved");
     let ckpt = split.join("checkpoint.json");
-    ok(fibresim(&[
-        "run",
-        "--resume",
-        ckpt.to_str().unwrap(),
-        "--t-end",
-        "0.02",
-        "-q",
-        "--out",
-        moved.to_str().unwrap(),
-    ]));
-    ok(fibresim(&[
-        "run",
-        "--resume",
-        ckpt.to_str().unwrap(),
-        "--t-end",
-        "0.02",
-        "-q",
-    ]));
+    resume_to(&ckpt, "0.02", &["--out", moved.to_str().unwrap()]);
+    resume_to(&ckpt, "0.02", &[]);
     let mut files = vec![
         "fibres.pvd".to_string(),
         "box.vtp".into(),
@@ -601,16 +579,7 @@ fn a_dense_scene_writes_the_same_vtk_bytes_whatever_the_threads_and_resume() {
         .concat(),
     );
     let ckpt = split.join("checkpoint.json");
-    ok(fibresim(&[
-        "run",
-        "--resume",
-        ckpt.to_str().unwrap(),
-        "--t-end",
-        "6e-4",
-        "--threads",
-        "2",
-        "-q",
-    ]));
+    resume_to(&ckpt, "6e-4", &["--threads", "2"]);
     let mut files = vec![
         "fibres.pvd".to_string(),
         "box.vtp".into(),

@@ -202,13 +202,13 @@ fn settle(plan: plan::SettlePlan) -> Result<()> {
         comment: vec![
             format!("Settled by: {}", command_line()),
             format!(
-                "from {} ({} fibres): {} after {} steps of {:e} s (t = {:e} s), kinetic energy {:.3e} J per fibre (threshold {:.3e} J).",
+                "from {} ({} fibres): {} after {} steps of {:e} s (t = {} s), kinetic energy {:.3e} J per fibre (threshold {:.3e} J).",
                 scene.source,
                 scene.bodies.len(),
                 if settled { "settled" } else { "NOT settled (t_end reached)" },
                 s.steps,
                 s.dt,
-                s.steps as f64 * s.dt,
+                crate::output::short(s.steps as f64 * s.dt),
                 ke / n,
                 settle.ke_per_body
             ),
@@ -251,7 +251,7 @@ fn settle(plan: plan::SettlePlan) -> Result<()> {
         Err(Error::bad(
             &scene.source,
             "--t-end",
-            format!("the bed did not settle by t = {:e} s (kinetic energy {:.3e} J per fibre); the unsettled bed was written anyway; give a longer --t-end", s.steps as f64 * s.dt, ke / n),
+            format!("the bed did not settle by t = {} s (kinetic energy {:.3e} J per fibre); the unsettled bed was written anyway; give a longer --t-end", crate::output::short(s.steps as f64 * s.dt), ke / n),
         ))
     }
 }

@@ -18,6 +18,31 @@ pub fn fibresim(args: &[&str]) -> Output {
         .expect("binary runs")
 }
 
+/// Require a successful run (its stderr in the failure message); its stdout.
+pub fn ok(o: Output) -> String {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// A file's bytes; a missing file fails the test naming it.
+pub fn read_bytes(p: &std::path::Path) -> Vec<u8> {
+    std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+/// `fibresim run --resume CHECKPOINT --t-end T -q [EXTRA…]`, required to succeed.
+pub fn resume_to(checkpoint: &std::path::Path, t_end: &str, extra: &[&str]) {
+    let mut a = vec![
+        "run",
+        "--resume",
+        checkpoint.to_str().unwrap(),
+        "--t-end",
+        t_end,
+        "-q",
+    ];
+    a.extend(extra);
+    ok(fibresim(&a));
+}
+
 pub fn scene_file(name: &str) -> Scene {
     let path = format!("{}/scenarios/{name}", env!("CARGO_MANIFEST_DIR"));
     scenario::load(std::path::Path::new(&path)).expect("shipped scenario loads")
