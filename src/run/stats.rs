@@ -112,9 +112,9 @@ impl RunStats {
             (l.total() - self.e0).abs(),
             (l.total_full() - self.e0_full).abs(),
         ];
-        for k in 0..2 {
-            raise(&mut self.max_dev[k], dev[k]);
-            raise(&mut self.window_dev[k], dev[k]);
+        for ((m, w), d) in self.max_dev.iter_mut().zip(&mut self.window_dev).zip(dev) {
+            raise(m, d);
+            raise(w, d);
         }
         self.last_dev = dev;
         self.carried_last = None;
@@ -233,7 +233,6 @@ mod tests {
             let start = ledger(e0, 0.0);
             let mut s = RunStats::new(&start);
             let (mut max, mut max_full, mut win) = (0.0f64, 0.0f64, 0.0f64);
-            let (mut last, mut last_full) = (f64::NAN, f64::NAN);
             let mut x = 0.3f64;
             for i in 0..2000 {
                 x = (x * 3.9 * (1.0 - x)).abs();
@@ -247,7 +246,7 @@ mod tests {
                 s.account(&l, None);
                 let (err, err_full) = (error_pct(l.total(), e0), error_pct(l.total_full(), e0));
                 (max, max_full, win) = (max.max(err), max_full.max(err_full), win.max(err));
-                (last, last_full) = (err, err_full);
+                let (last, last_full) = (err, err_full);
                 if i % 97 == 0 {
                     assert_eq!(s.since_event().error.to_bits(), win.to_bits(), "{e0} {i}");
                     s.reset_window();
