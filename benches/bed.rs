@@ -88,13 +88,18 @@ fn lattice(n: usize) -> Scene {
     scene.bodies.clear();
     scene.initial.clear();
     scene.names.clear();
+    // Exact sizes, as the loader's (a body file's tables are moved in
+    // whole): pushes would leave up to 2× capacity.
+    scene.bodies.reserve_exact(n);
+    scene.initial.reserve_exact(n);
     for k in 0..n {
         let (i, j, z) = (k % side, (k / side) % side, k / (side * side));
         let c = |g: usize| (g as f64 + 0.5) * cell;
         let axis = glam::DVec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5).normalize();
         let q = glam::DQuat::from_rotation_arc(glam::DVec3::X, axis);
+        // No name, as for the bodies of a body file (`Scene::name` gives
+        // `body<id>`): a String per body is not what a bed costs.
         scene.bodies.push(template);
-        scene.names.push(format!("body{k}"));
         scene.initial.push(fibresim::body::BodyState {
             x: glam::DVec3::new(c(i), c(j), c(z)),
             v: glam::DVec3::ZERO,

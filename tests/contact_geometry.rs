@@ -1327,6 +1327,72 @@ fn parallel_blend_forces_are_gradient_of_potential() {
     assert!(worst < 1e-6, "worst {worst}");
 }
 
+/// Regression (`spinning_fibres`, split, t = 0.10234 s, fibres 4 and 6 at
+/// 49°): where the crossing point of a crossed pair slides off an end, the
+/// crossing depth and that end's depth are equal, and the model switches
+/// from the side–side smooth maximum of the two to regime 3. A fixed
+/// crossing band put the main depth ε/32 (31 nm) above both there: a 5e-4 %
+/// energy step at every δt. Reference: a continuous potential sampled every
+/// 1 nm of sliding moves by |dU/dx|·1 nm, here ≲ 1e-4 U (the crossing depth
+/// is constant while the crossing lasts); the fixed band's step was
+/// 2.5 · 31 nm / 5 µm ≈ 1.6e-2 U.
+#[test]
+fn crossing_sliding_off_an_end_has_no_potential_step() {
+    let d0 = 5e-6;
+    let b60 = fib(DVec3::ZERO, DVec3::new(0.5, 0.0, 0.75f64.sqrt()));
+    // A's closest point is the origin; |s| = H at x_A = H.
+    let (step, umax) = max_step(2000, &|t| {
+        (
+            fib(
+                DVec3::new(H - 1e-6 + t * 2e-6, -(2.0 * R - d0), 0.0),
+                DVec3::X,
+            ),
+            b60,
+        )
+    });
+    println!("crossing sliding off an end: max |ΔU|/U_max per 1 nm = {step:.2e}");
+    assert!(umax > 0.0);
+    assert!(
+        step < 1e-4,
+        "potential step {step} at the crossing's switch"
+    );
+}
+
+/// The crossing band fades with the parallel blend weight, so inside the
+/// blend band its gradient is a couple carried on the crossing's part.
+/// Reference: central finite differences of Σ w U(δ) for A and B on
+/// scissored staggered pairs at sin ∈ (PARALLEL_BLEND_SIN, PARALLEL_SIN)
+/// whose crossing lies `dx` inside A's end, so the crossing depth and that
+/// end's depth differ by (θ dx)²/(4R) ≪ the band (the other end is microns
+/// shallower).
+#[test]
+fn crossing_band_couple_is_the_gradient() {
+    let law = HertzLaw::fibre_fibre(0.01, 1e9, 0.3, 0.01, 1e9, 0.3);
+    let d0 = 3e-4;
+    let cb = DVec3::new(H, 2.0 * R - d0, 0.0);
+    let band = PARALLEL_SIN - PARALLEL_BLEND_SIN;
+    let (mut worst, mut coupled) = (0.0f64, 0);
+    for dx in [2e-6, 1e-5, 3e-5] {
+        let pivot = DVec3::new(H - dx, 2.0 * R - d0, 0.0);
+        for x in [0.1, 0.3, 0.5, 0.7, 0.9] {
+            let theta = (PARALLEL_BLEND_SIN + x * band).asin();
+            let (a, b) = tilted_pair(cb, pivot, DVec3::Y, theta);
+            let c = ff_contacts(&a, &b);
+            // The couple splits the crossing's part into two points whose
+            // directions are not unit vectors.
+            if c.iter().any(|p| (p.normal.length() - 1.0).abs() > 1e-12) {
+                coupled += 1;
+            }
+            let ea = gradient_error(&law, &a, 1e-10, 1e-10 / H, &|g| ff_contacts(g, &b));
+            let eb = gradient_error_b(&law, &a, &b, 1e-10, 1e-10 / H);
+            worst = worst.max(ea).max(eb);
+        }
+    }
+    println!("crossing band couple: {coupled} coupled poses, worst rel error {worst:.2e}");
+    assert!(coupled >= 5, "{coupled}");
+    assert!(worst < 1e-6, "worst {worst}");
+}
+
 /// Test case 2 (leapfrog, t ≈ 1.20369 s): fibres 1 and 4 landing end on end
 /// at ~2° relative tilt crossed `PARALLEL_SIN` and a second contact
 /// (overlap 4.4e-4 m) appeared at once: +2.53 % total energy in one step.

@@ -78,18 +78,18 @@ impl Observer for EnergyCsv {
     }
 
     fn event(&mut self, v: &View) {
-        self.window = self.window.max(v.stats.since_event);
+        self.window = self.window.max(v.stats.since_event());
     }
 
     /// The row of the step last accounted for; starts a new window.
     fn row(&mut self, v: &View) -> Result<()> {
         let (s, l, w) = (v.stats, &v.world.ledger, self.window);
-        let window = if s.last_error.is_nan() {
+        let window = if s.last_error().is_nan() {
             f64::NAN
         } else {
             w.error
         };
-        let window_full = if s.last_error_full.is_nan() {
+        let window_full = if s.last_error_full().is_nan() {
             f64::NAN
         } else {
             w.error_full
@@ -107,8 +107,8 @@ impl Observer for EnergyCsv {
             .and_then(|r| r.f(l.rotation))
             .and_then(|r| r.f(l.elastic))
             .and_then(|r| r.f(l.total()))
-            .and_then(|r| r.f(s.last_error))
-            .and_then(|r| r.f(s.last_error_full))
+            .and_then(|r| r.f(s.last_error()))
+            .and_then(|r| r.f(s.last_error_full()))
             .and_then(|r| r.f(window))
             .and_then(|r| r.f(window_full))
             .and_then(|r| {

@@ -122,11 +122,12 @@ impl Summary {
             wall_s: end.wall_s,
             wall_total_s: wall_before_s + end.wall_s,
             ns_per_body_step: end.wall_s * 1e9 / body_steps,
-            energy_error_max_pct: finite(stats.max_error).filter(|_| stats.last_error.is_finite()),
-            energy_error_final_pct: finite(stats.last_error),
-            energy_error_full_max_pct: finite(stats.max_error_full)
-                .filter(|_| stats.last_error_full.is_finite()),
-            energy_error_full_final_pct: finite(stats.last_error_full),
+            energy_error_max_pct: finite(stats.max_error())
+                .filter(|_| stats.last_error().is_finite()),
+            energy_error_final_pct: finite(stats.last_error()),
+            energy_error_full_max_pct: finite(stats.max_error_full())
+                .filter(|_| stats.last_error_full().is_finite()),
+            energy_error_full_final_pct: finite(stats.last_error_full()),
             kinetic_final: world.ledger.translation + world.ledger.rotation,
             energy_dissipated: scene.damping.is_some().then_some(world.ledger.dissipated),
             max_overlap_ratio: world.contacts.is_some().then_some(stats.max_overlap_ratio),

@@ -121,7 +121,7 @@ fn drive_with<'s, R: Rotator>(
                         o.row(&v)?;
                     }
                 }
-                stats.since_event = Default::default();
+                stats.reset_window();
             }
             Some(c) => {
                 let (states, aux, restored) = checkpoint::restore(c, scene, R::Aux::LEN)?;
@@ -230,7 +230,7 @@ fn drive_with<'s, R: Rotator>(
             break;
         }
         next = next_event(&next_row, next_checkpoint);
-        stats.since_event = Default::default();
+        stats.reset_window();
     }
     let wall_s = start.elapsed().as_secs_f64();
     let end = RunEnd {

@@ -52,7 +52,7 @@ pub trait Observer {
     }
 
     /// At every event of the driver (a step where any observer writes a row,
-    /// or a checkpoint), before its rows: `v.stats.since_event` holds the
+    /// or a checkpoint), before its rows: `v.stats.since_event()` holds the
     /// maxima over the steps since the previous event.
     fn event(&mut self, _v: &View) {}
 

@@ -206,7 +206,7 @@ pub(super) struct Wrench {
 /// `weight F(δ) normal`): forces sum to `N`, torques to `arm × N + d × M`,
 /// and `d ⊥ T`, `M = T × d/|d|²` gives `d × M = T`, the residual torque.
 /// The energy is `weight U(δ)` as for any contact.
-fn push_wrench(
+pub(super) fn push_wrench(
     out: &mut Vec<ContactPoint>,
     c: Cand,
     wr: Wrench,

@@ -69,7 +69,7 @@ struct Cand {
 /// gradient with respect to a rotation of A: `dw/dsin · ∂sin/∂φ_A` with
 /// `∂|a×b|/∂φ_A = −(a·b) (a×b)/|a×b|`.
 #[inline]
-fn parallel_weight(a: &FibreGeom, b: &FibreGeom, sin: f64) -> (f64, DVec3) {
+pub(super) fn parallel_weight(a: &FibreGeom, b: &FibreGeom, sin: f64) -> (f64, DVec3) {
     if sin <= PARALLEL_BLEND_SIN {
         return (1.0, DVec3::ZERO);
     }

@@ -4,12 +4,12 @@
 //! pair, and the axial escape of near-parallel pairs whose ends slide past
 //! each other. Model and limits: docs/contacts.md, "Side–side".
 
-use super::blend::{push_weighted, smooth_min, Blend, Wrench, TIE_BAND};
+use super::blend::{push_weighted, push_wrench, smooth_min, Blend, Wrench, TIE_BAND};
 use super::end_involved::{axial_escape, penetration};
 use super::features::rim_point_nearest_line;
 use super::segment::axial_overlap;
 use super::support::sig;
-use super::{Cand, PARALLEL_SIN};
+use super::{parallel_weight, Cand, PARALLEL_SIN};
 use crate::contact::{ContactPoint, FibreGeom, KernelCounters};
 use glam::DVec3;
 
@@ -141,7 +141,7 @@ pub(super) enum SideSide {
     /// `cp` when the closest points are interior), pushed with weights in
     /// closed form by [`SideSide::push`] (no [`Blend`] needed).
     Line {
-        cp: Option<Cand>,
+        cp: Option<Crossing>,
         lo: Cand,
         hi: Cand,
     },
@@ -174,15 +174,22 @@ impl SideSide {
                 part(out, hi, m, wh, (second_weight, second_grad));
                 let (neg_s, sl, sh) = smooth_min(-lo.depth, -hi.depth, TIE_BAND);
                 let (depth, wc, ws) = match cp {
-                    Some(cp) => {
-                        let (neg, wc, ws) = smooth_min(-cp.depth, neg_s, CROSSING_BAND);
+                    Some(x) => {
+                        let (neg, wc, ws) = smooth_min(-x.cand.depth, neg_s, x.band);
                         (-neg, wc, ws)
                     }
                     None => (-neg_s, 0.0, 1.0),
                 };
                 let main = (main_weight, main_grad);
-                if let Some(cp) = cp {
-                    part(out, cp, depth, wc, main);
+                if let Some(x) = cp {
+                    // The band's own gradient, ∂δ_main/∂ε = w_c w_S, on
+                    // the crossing's part (weight w_c): see [`Crossing`].
+                    if wc > 0.0 && ws > 0.0 && x.band_grad != DVec3::ZERO {
+                        let c = Cand { depth, ..x.cand };
+                        push_wrench(out, c, x.wrench(a, ws), a, wc * main_weight, wc * main_grad);
+                    } else {
+                        part(out, x.cand, depth, wc, main);
+                    }
                 }
                 part(out, lo, depth, ws * sl, main);
                 part(out, hi, depth, ws * sh, main);
@@ -196,10 +203,69 @@ impl SideSide {
 }
 
 /// Width of the smooth maximum of the crossing and the line contact's
-/// ends (m): below the ε/4 by which the ends' smooth maximum exceeds their
-/// plain maximum at a tie, so an exactly parallel pair (crossing depth =
-/// end depth up to rounding) gives the crossing no weight.
+/// ends (m) for a parallel pair (`|a×b| ≤` [`super::PARALLEL_BLEND_SIN`]):
+/// below the ε/4 by which the ends' smooth maximum exceeds their plain
+/// maximum at a tie, so an exactly parallel pair (crossing depth = end
+/// depth up to rounding) gives the crossing no weight. It fades with the
+/// parallel blend weight to 0 at [`PARALLEL_SIN`], see [`Crossing`].
 const CROSSING_BAND: f64 = TIE_BAND / 8.0;
+
+/// The crossing (closest points interior) of the line model with the band
+/// `ε_c = CROSSING_BAND · w(|a×b|)` of its smooth maximum with the ends
+/// (`w` the parallel blend weight, gradient `band_grad = CROSSING_BAND ·
+/// ∂w/∂φ_A`).
+///
+/// Why the band fades: where the crossing point slides off an end, the
+/// crossing depth equals that end's depth (they tie exactly), and beyond
+/// it the model is `S` or regime 3's exact depth; a fixed band put the
+/// main depth ε_c/4 (31 nm) above both there, a jump in the potential at
+/// the switch (`spinning_fibres`: a 5e-4 % energy step at every δt, issue
+/// 10). With `ε_c = 0` for crossed pairs the main depth is the plain
+/// `max(δ_cp, S) = δ_cp` up to the switch, continuous; the tie the band
+/// is for (an exactly parallel pair) keeps it. Between, `∂δ_main/∂ε_c =
+/// w_c w_S` (the C¹ formula) times `band_grad` is a pure couple of the
+/// potential, pushed with the crossing's part as a [`Wrench`].
+#[derive(Clone, Copy)]
+pub(super) struct Crossing {
+    cand: Cand,
+    band: f64,
+    band_grad: DVec3,
+}
+
+impl Crossing {
+    fn new(cand: Cand, a: &FibreGeom, b: &FibreGeom) -> Self {
+        let sin = a.axis.cross(b.axis).length();
+        let (w, grad) = parallel_weight(a, b, sin);
+        Self {
+            cand,
+            band: CROSSING_BAND * w,
+            band_grad: CROSSING_BAND * grad,
+        }
+    }
+
+    /// `−∇_A δ_main / w_c` of the crossing's part when the ends' weight is
+    /// `ws`: the force along its normal, and the torque of that force plus
+    /// `−w_S ∂ε_c/∂φ_A` (the band's couple, `∂δ_main/∂ε_c = w_c w_S`).
+    fn wrench(&self, a: &FibreGeom, ws: f64) -> Wrench {
+        let c = self.cand;
+        Wrench {
+            force: c.normal,
+            torque: (c.point - a.centre).cross(c.normal) - ws * self.band_grad,
+        }
+    }
+
+    /// `smax(δ_cp, ends)` over the band as a [`Blend`], the crossing's part
+    /// carrying the band's couple.
+    fn smax(&self, ends: Blend, a: &FibreGeom) -> Blend {
+        let (_, _, ws) = smooth_min(-self.cand.depth, -ends.depth, self.band);
+        let cp = if ws > 0.0 && ws < 1.0 && self.band_grad != DVec3::ZERO {
+            Blend::with_wrench(self.cand, self.wrench(a, ws))
+        } else {
+            Blend::single(self.cand)
+        };
+        cp.smax(ends, self.band)
+    }
+}
 
 /// Side–side model, potential `U(δ_main) + U(δ_2)` with
 /// `δ_2 = smin(δ_lo, δ_hi)`, `S = smax(δ_lo, δ_hi) = δ_lo + δ_hi − δ_2` (C¹,
@@ -281,8 +347,9 @@ pub(super) fn side_side(
     {
         return SideSide::Crossing(cp);
     }
+    let crossing = Crossing::new(cp, a, b);
     let line = SideSide::Line {
-        cp: interior.then_some(cp),
+        cp: interior.then_some(crossing),
         lo,
         hi,
     };
@@ -290,7 +357,7 @@ pub(super) fn side_side(
     let first_depth = {
         let ends = -smooth_min(-lo.depth, -hi.depth, TIE_BAND).0;
         if interior {
-            -smooth_min(-cp.depth, -ends, CROSSING_BAND).0
+            -smooth_min(-cp.depth, -ends, crossing.band).0
         } else {
             ends
         }
@@ -310,7 +377,7 @@ pub(super) fn side_side(
     let second = lo_b.smin(hi_b);
     let ends = lo_b.smax(hi_b, TIE_BAND);
     let first = if interior {
-        Blend::single(cp).smax(ends, CROSSING_BAND)
+        crossing.smax(ends, a)
     } else {
         ends
     };
