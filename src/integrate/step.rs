@@ -108,7 +108,7 @@ impl<'s> World<'s> {
     }
 
     /// The rotator's auxiliary state at the start of a run.
-    fn start_aux<R: Rotator>(&mut self) {
+    pub(crate) fn start_aux<R: Rotator>(&mut self) {
         let len = R::Aux::LEN;
         self.aux = vec![0.0; len * self.states.len()];
         for (i, (s, b)) in self.states.iter().zip(&self.scene.bodies).enumerate() {
@@ -221,7 +221,7 @@ impl<'s> World<'s> {
     /// per-body ones are [`body_is_sound`]. Together as strict as
     /// [`Self::diagnose_state`].
     #[inline]
-    fn scene_is_sound(&self) -> bool {
+    pub(crate) fn scene_is_sound(&self) -> bool {
         let guards = &self.scene.guards;
         let overlap_ok = self
             .contacts
@@ -237,7 +237,7 @@ impl<'s> World<'s> {
     /// specific first (a NaN state also has a NaN energy).
     #[cold]
     #[inline(never)]
-    fn diagnose_state(&self) -> Option<Diagnosis> {
+    pub(crate) fn diagnose_state(&self) -> Option<Diagnosis> {
         let guards = &self.scene.guards;
         let ids = &self.scene.ids;
         let diag = |kind: StopKind, body: Option<usize>, value: f64, limit: f64| Diagnosis {
@@ -314,7 +314,7 @@ impl<'s> World<'s> {
 /// non-finite (`g·x` is computed even for `g = 0`, and `0·∞` is NaN), which
 /// [`World::scene_is_sound`] rejects; the slow path then names the body.
 #[inline]
-pub(super) fn body_is_sound(s: &BodyState) -> bool {
+pub(crate) fn body_is_sound(s: &BodyState) -> bool {
     const NORM2_LO: f64 = (1.0 - QUAT_NORM_TOLERANCE) * (1.0 - QUAT_NORM_TOLERANCE);
     const NORM2_HI: f64 = (1.0 + QUAT_NORM_TOLERANCE) * (1.0 + QUAT_NORM_TOLERANCE);
     (NORM2_LO..=NORM2_HI).contains(&s.rot.q.length_squared())
@@ -324,14 +324,14 @@ pub(super) fn body_is_sound(s: &BodyState) -> bool {
 /// if any, evaluated there, plus the latest computed contact torque
 /// (docs/physics.md §4).
 #[inline]
-pub(super) fn torque_source(
+pub(crate) fn torque_source(
     prescribed: Option<&PrescribedTorque>,
     contact: DVec3,
 ) -> impl Fn(f64) -> DVec3 + '_ {
     move |t| prescribed.map_or(DVec3::ZERO, |p| p.at(t)) + contact
 }
 
-fn fault_diagnosis(fault: RotatorFault, body: u64, step: u64, t: f64) -> Diagnosis {
+pub(crate) fn fault_diagnosis(fault: RotatorFault, body: u64, step: u64, t: f64) -> Diagnosis {
     match fault {
         RotatorFault::ScalarSingularity { half_angle } => Diagnosis {
             kind: StopKind::ScalarSingularity,

@@ -95,3 +95,30 @@ impl<F: FnMut(&World)> Observer for EachStep<F> {
         (self.0)(v.world)
     }
 }
+
+/// An observer that writes nothing but keeps another's cadences: an MPI
+/// rank other than 0 drives its loop through the same events (the
+/// collective gathers of `src/ranks/` happen at them) without writing.
+pub(crate) struct Silent {
+    every: Option<u64>,
+    every_step: bool,
+}
+
+impl Silent {
+    /// The cadences of `o`.
+    pub(crate) fn of(o: &dyn Observer) -> Self {
+        Silent {
+            every: o.every(),
+            every_step: o.every_step(),
+        }
+    }
+}
+
+impl Observer for Silent {
+    fn every(&self) -> Option<u64> {
+        self.every
+    }
+    fn every_step(&self) -> bool {
+        self.every_step
+    }
+}
