@@ -316,11 +316,14 @@ impl<'c> RankStep<'c> {
         let me = self.rank();
         let interrupted = crate::run::INTERRUPTED.load(Ordering::Relaxed);
         let mut head = vec![sound as u8 as f64, interrupted as u8 as f64];
+        head.extend([0.0; tally::PEAK]);
         head.append(&mut self.msg);
         self.msg = head;
+        let mut peak = tally::Peak::default();
         if let (Some(stage), Some(list)) = (&w.contacts, &self.list) {
             let owner = &self.slabs.owner;
             let msg = &mut self.msg;
+            let mut hits = Vec::new();
             stage.for_each_hit(list, |wall, c, points| {
                 let key = if wall {
                     let (a, k) = list.walls[c as usize];
@@ -333,9 +336,22 @@ impl<'c> RankStep<'c> {
                     }
                     HitKey { pair: true, a, b }
                 };
-                tally::push_hit(msg, key, points);
+                hits.push((key, points.collect::<smallvec::SmallVec<[[f64; 3]; 2]>>()));
             });
+            // The rank's notes in the one-process order: walls, then pairs.
+            hits.sort_by_key(|(k, _)| (k.pair, k.a, k.b));
+            for (k, points) in &hits {
+                let (pair, a, b) = (k.pair as u8 as f64, k.a as f64, k.b as f64);
+                for (j, p) in points.iter().enumerate() {
+                    peak.note(p[1], [pair, a, b, j as f64, 0.0], k.a);
+                    if k.pair {
+                        peak.note(p[2], [pair, a, b, j as f64, 1.0], k.b);
+                    }
+                }
+                tally::push_hit(msg, *k, points.iter().map(|p| p[0]));
+            }
         }
+        self.msg[2..2 + tally::PEAK].copy_from_slice(&peak.to_array());
         let gathered = self.comm.gather(&self.msg);
         self.msg.clear();
         let mut out = [0.0; 9];
@@ -344,20 +360,22 @@ impl<'c> RankStep<'c> {
             self.terms.resize(n, [0.0; 3]);
             let (mut sound_all, mut stop) = (true, false);
             let mut hits = Vec::new();
+            let mut peaks = Vec::new();
             let mut at = 0;
             for (r, &c) in counts.iter().enumerate() {
                 let m = &all[at..at + c as usize];
                 at += c as usize;
                 sound_all &= m[0] != 0.0;
                 stop |= m[1] != 0.0;
+                peaks.push(tally::Peak::from_slice(&m[2..2 + tally::PEAK]));
                 let owned = &self.slabs.owned[r];
-                let (terms, rest) = m[2..].split_at(3 * owned.len());
+                let (terms, rest) = m[2 + tally::PEAK..].split_at(3 * owned.len());
                 for (&i, t) in owned.iter().zip(terms.chunks_exact(3)) {
                     self.terms[i as usize] = [t[0], t[1], t[2]];
                 }
                 hits.extend_from_slice(rest);
             }
-            let stats = tally::contact_stats(&hits);
+            let stats = tally::contact_stats(&hits, &peaks);
             let l = tally::ledger(&self.terms, stats.elastic, w.dissipated());
             out = [
                 l.gravity,

@@ -234,12 +234,19 @@ fn drive_with<'s, R: Rotator, S: Stepper<'s>>(
         if world.step < next && !interrupted && !settled {
             continue;
         }
-        stepper.sync(&mut world);
+        let last = world.step == steps || settled;
+        let states_read = last
+            || interrupted
+            || world.step == next_checkpoint
+            || (0..observers.len())
+                .any(|i| world.step == next_row[i] && observers[i].reads_states());
+        if states_read {
+            stepper.sync(&mut world);
+        }
         let v = View {
             world: &world,
             stats: &stats,
         };
-        let last = world.step == steps || settled;
         for o in observers.iter_mut() {
             o.event(&v);
         }

@@ -46,6 +46,13 @@ pub trait Observer {
         false
     }
 
+    /// Whether its rows read the bodies' states (not only the ledger and
+    /// the contact statistics). Under MPI the states are gathered to rank
+    /// 0 only for the events that need them (`src/ranks/`).
+    fn reads_states(&self) -> bool {
+        true
+    }
+
     /// A new run starts (not a resumed one): create the output files.
     fn start(&mut self, _v: &View) -> Result<()> {
         Ok(())
@@ -102,6 +109,7 @@ impl<F: FnMut(&World)> Observer for EachStep<F> {
 pub(crate) struct Silent {
     every: Option<u64>,
     every_step: bool,
+    reads_states: bool,
 }
 
 impl Silent {
@@ -110,6 +118,7 @@ impl Silent {
         Silent {
             every: o.every(),
             every_step: o.every_step(),
+            reads_states: o.reads_states(),
         }
     }
 }
@@ -120,5 +129,8 @@ impl Observer for Silent {
     }
     fn every_step(&self) -> bool {
         self.every_step
+    }
+    fn reads_states(&self) -> bool {
+        self.reads_states
     }
 }
