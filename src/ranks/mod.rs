@@ -139,7 +139,7 @@ struct Report {
     bodies: usize,
 }
 
-const ROW: usize = 9;
+const ROW: usize = 10;
 
 /// Every rank's clocks and traffic, on rank 0.
 fn report(s: &mut RankStep, bodies: usize) -> Option<Report> {
@@ -155,6 +155,7 @@ fn report(s: &mut RankStep, bodies: usize) -> Option<Report> {
         s.comm.bytes as f64,
         c.steps as f64,
         c.rebuilds as f64,
+        c.migrated as f64,
     ];
     let (all, _) = s.comm.gather(&row)?;
     Some(Report {
@@ -166,12 +167,12 @@ fn report(s: &mut RankStep, bodies: usize) -> Option<Report> {
 impl Report {
     fn table(&self) -> String {
         let mut t = String::from(
-            "rank  fibres  ghosts  force_s  integrate_s  comm_s  wait_s  bytes/step  bytes/fibre-step  rebuilds\n",
+            "rank  fibres  ghosts  force_s  integrate_s  comm_s  wait_s  bytes/step  bytes/fibre-step  rebuilds  migrated\n",
         );
         for (r, row) in self.rows.iter().enumerate() {
             let per_step = row[6] / row[7].max(1.0);
             t += &format!(
-                "{r:>4}  {:>6.0}  {:>6.0}  {:>7.3}  {:>11.3}  {:>6.3}  {:>6.3}  {:>10.0}  {:>16.1}  {:>8.0}\n",
+                "{r:>4}  {:>6.0}  {:>6.0}  {:>7.3}  {:>11.3}  {:>6.3}  {:>6.3}  {:>10.0}  {:>16.1}  {:>8.0}  {:>8.0}\n",
                 row[0],
                 row[1],
                 row[2],
@@ -180,7 +181,8 @@ impl Report {
                 row[5],
                 per_step,
                 per_step / row[0].max(1.0),
-                row[8]
+                row[8],
+                row[9]
             );
         }
         t
@@ -207,6 +209,7 @@ impl Report {
                     "bytes_per_step": per_step,
                     "bytes_per_fibre_step": per_step / row[0].max(1.0),
                     "rebuilds": row[8],
+                    "migrated": row[9],
                 })
             })
             .collect();

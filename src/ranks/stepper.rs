@@ -73,6 +73,8 @@ pub(crate) struct RankStep<'c> {
 pub(crate) struct Clocks {
     pub steps: u64,
     pub rebuilds: u64,
+    /// Bodies that migrated to this rank at the rebuilds.
+    pub migrated: u64,
     pub forces: Duration,
     pub integrate: Duration,
     /// Sum over steps of the owned and ghost counts (for their means).
@@ -106,8 +108,15 @@ impl<'c> RankStep<'c> {
     fn decompose(&mut self, w: &World) {
         let scene = w.scene;
         let centres: Vec<DVec3> = w.states.iter().map(|s| s.x).collect();
-        self.slabs = Slabs::new(&centres, self.comm.size, self.width);
+        let slabs = Slabs::new(&centres, self.comm.size, self.width);
         let me = self.rank();
+        if self.slabs.owner.len() == slabs.owner.len() {
+            // Owners that changed: bodies that migrated to this rank.
+            self.clocks.migrated += (0..slabs.owner.len())
+                .filter(|&i| slabs.owner[i] as usize == me && self.slabs.owner[i] != slabs.owner[i])
+                .count() as u64;
+        }
+        self.slabs = slabs;
         self.local = self.slabs.local(me);
         self.sends = (0..self.comm.size).map(|to| self.slabs.sends(me, to)).collect();
         self.recvs = (0..self.comm.size).map(|from| self.slabs.sends(from, me)).collect();

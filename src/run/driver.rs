@@ -265,7 +265,13 @@ fn drive_with<'s, R: Rotator, S: Stepper<'s>>(
             next_checkpoint = next_checkpoint.saturating_add(checkpoint_every);
         }
         if interrupted || periodic {
-            let mut c = Checkpoint::of::<R>(&world, &stats);
+            // Every observer has folded this event's window: the resumed
+            // run starts a new one, as the whole run does after the event.
+            let after_event = RunStats {
+                since_event: Default::default(),
+                ..stats
+            };
+            let mut c = Checkpoint::of::<R>(&world, &after_event);
             for o in observers.iter_mut() {
                 o.checkpoint(&mut c)?;
             }
