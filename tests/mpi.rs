@@ -26,12 +26,19 @@ fn plain(args: &[&str]) -> Output {
 /// `mpirun -np K fibresim ARGS`, one thread per rank.
 fn ranks(k: usize, args: &[&str]) -> Output {
     let mut cmd = Command::new("mpirun");
-    cmd.args(["--allow-run-as-root", "--oversubscribe", "-np", &k.to_string(), BIN]);
+    cmd.args([
+        "--allow-run-as-root",
+        "--oversubscribe",
+        "-np",
+        &k.to_string(),
+        BIN,
+    ]);
     cmd.args(args).args(["--threads", "1"]);
     // OpenMPI's shared-memory transport yields when oversubscribed.
     cmd.env("OMPI_MCA_mpi_yield_when_idle", "1");
-    cmd.output()
-        .unwrap_or_else(|e| panic!("mpirun not found ({e}): apt-get install openmpi-bin libopenmpi-dev"))
+    cmd.output().unwrap_or_else(|e| {
+        panic!("mpirun not found ({e}): apt-get install openmpi-bin libopenmpi-dev")
+    })
 }
 
 fn ok(o: &Output) {
@@ -136,7 +143,14 @@ const FLAGS: [&str; 5] = ["--every", "20", "--checkpoint-every", "3000", "-q"];
 
 fn one_process(s: &Scene) -> Bytes {
     let out = s.root.join("one");
-    let mut a = vec!["run", s.path.to_str().unwrap(), "--out", out.to_str().unwrap(), "--threads", "1"];
+    let mut a = vec![
+        "run",
+        s.path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--threads",
+        "1",
+    ];
     a.extend(FLAGS);
     ok(&plain(&a));
     let b = bytes(&out);
@@ -146,7 +160,10 @@ fn one_process(s: &Scene) -> Bytes {
         .filter_map(|l| l.split(',').nth(11)?.parse().ok())
         .max()
         .unwrap();
-    assert!(contacts > 100, "the scene has live contacts ({contacts} at most)");
+    assert!(
+        contacts > 100,
+        "the scene has live contacts ({contacts} at most)"
+    );
     b
 }
 
@@ -155,13 +172,21 @@ fn same_bytes_with(k: &[usize]) {
     let one = one_process(&s);
     for &k in k {
         let out = s.root.join(format!("np{k}"));
-        let mut a = vec!["run", s.path.to_str().unwrap(), "--out", out.to_str().unwrap()];
+        let mut a = vec![
+            "run",
+            s.path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ];
         a.extend(FLAGS);
         ok(&ranks(k, &a));
         same(&bytes(&out), &one, &format!("with {k} ranks"));
         if k > 1 {
             let (rebuilds, migrated) = rank_report(&out);
-            assert!(rebuilds >= 2.0, "the list is rebuilt after the start ({rebuilds} builds)");
+            assert!(
+                rebuilds >= 2.0,
+                "the list is rebuilt after the start ({rebuilds} builds)"
+            );
             assert!(migrated >= 1.0, "owners migrate ({migrated} bodies)");
         }
     }
@@ -191,7 +216,19 @@ fn a_checkpoint_resumes_with_another_rank_count() {
     let path = s.path.to_str().unwrap();
     let half = |dir: &str, k: usize| {
         let out = s.root.join(dir);
-        let a = ["run", path, "--out", out.to_str().unwrap(), "--t-end", "1.5e-3", "--every", "20", "--checkpoint-every", "1500", "-q"];
+        let a = [
+            "run",
+            path,
+            "--out",
+            out.to_str().unwrap(),
+            "--t-end",
+            "1.5e-3",
+            "--every",
+            "20",
+            "--checkpoint-every",
+            "1500",
+            "-q",
+        ];
         if k == 1 {
             ok(&plain(&[&a[..], &["--threads", "1"]].concat()));
         } else {
@@ -201,7 +238,18 @@ fn a_checkpoint_resumes_with_another_rank_count() {
     };
     let resume = |ckpt: &Path, dir: &str, k: usize| {
         let out = s.root.join(dir);
-        let a = ["run", "--resume", ckpt.to_str().unwrap(), "--out", out.to_str().unwrap(), "--t-end", "3e-3", "--checkpoint-every", "1500", "-q"];
+        let a = [
+            "run",
+            "--resume",
+            ckpt.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--t-end",
+            "3e-3",
+            "--checkpoint-every",
+            "1500",
+            "-q",
+        ];
         if k == 1 {
             ok(&plain(&[&a[..], &["--threads", "1"]].concat()));
         } else {
@@ -210,10 +258,17 @@ fn a_checkpoint_resumes_with_another_rank_count() {
         bytes(&out)
     };
     let reference = resume(&half("h1", 1), "r11", 1);
-    assert!(reference.states == whole.states, "a one-process resume ends in the whole run's states");
+    assert!(
+        reference.states == whole.states,
+        "a one-process resume ends in the whole run's states"
+    );
     let two = half("h2", 2);
     for k in [1, 3] {
-        same(&resume(&two, &format!("r2{k}"), k), &reference, &format!("resumed on {k} from 2 ranks"));
+        same(
+            &resume(&two, &format!("r2{k}"), k),
+            &reference,
+            &format!("resumed on {k} from 2 ranks"),
+        );
     }
 }
 
@@ -227,16 +282,39 @@ fn a_guard_stops_every_rank_with_the_one_process_diagnosis() {
     std::fs::write(&tight, text).unwrap();
     let path = tight.to_str().unwrap();
     let (a, b) = (s.root.join("ga"), s.root.join("gb"));
-    let one = plain(&["run", path, "--out", a.to_str().unwrap(), "--threads", "1", "-q"]);
+    let one = plain(&[
+        "run",
+        path,
+        "--out",
+        a.to_str().unwrap(),
+        "--threads",
+        "1",
+        "-q",
+    ]);
     let two = ranks(2, &["run", path, "--out", b.to_str().unwrap(), "-q"]);
-    assert_eq!(one.status.code(), Some(3), "{}", String::from_utf8_lossy(&one.stderr));
-    assert_eq!(two.status.code(), Some(3), "{}", String::from_utf8_lossy(&two.stderr));
+    assert_eq!(
+        one.status.code(),
+        Some(3),
+        "{}",
+        String::from_utf8_lossy(&one.stderr)
+    );
+    assert_eq!(
+        two.status.code(),
+        Some(3),
+        "{}",
+        String::from_utf8_lossy(&two.stderr)
+    );
     let stopped = |d: &Path| {
         let s: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap();
+            serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap())
+                .unwrap();
         s["stopped"].clone()
     };
-    assert!(stopped(&a)["kind"].is_string(), "one process stopped: {}", stopped(&a));
+    assert!(
+        stopped(&a)["kind"].is_string(),
+        "one process stopped: {}",
+        stopped(&a)
+    );
     assert_eq!(stopped(&a), stopped(&b));
     let error = |o: &Output| {
         String::from_utf8_lossy(&o.stderr)
@@ -246,4 +324,3 @@ fn a_guard_stops_every_rank_with_the_one_process_diagnosis() {
     };
     assert_eq!(error(&one), error(&two), "the same diagnosis, printed once");
 }
-

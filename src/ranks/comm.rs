@@ -66,7 +66,9 @@ impl<'c> Comm<'c> {
     /// Whether `mine` holds on any rank.
     pub fn any(&mut self, mine: bool) -> bool {
         let mut out = 0u8;
-        self.timed(1, |w| w.all_reduce_into(&(mine as u8), &mut out, SystemOperation::max()));
+        self.timed(1, |w| {
+            w.all_reduce_into(&(mine as u8), &mut out, SystemOperation::max())
+        });
         out != 0
     }
 
@@ -113,7 +115,12 @@ impl<'c> Comm<'c> {
 
     /// Send `send` (cut into `send_counts` per destination) and receive
     /// `recv_counts` per source.
-    pub fn all_to_all(&mut self, send: &[f64], send_counts: &[Count], recv_counts: &[Count]) -> Vec<f64> {
+    pub fn all_to_all(
+        &mut self,
+        send: &[f64],
+        send_counts: &[Count],
+        recv_counts: &[Count],
+    ) -> Vec<f64> {
         let sd = displacements(send_counts);
         let rd = displacements(recv_counts);
         let mut out = vec![0.0; recv_counts.iter().map(|&c| c as usize).sum()];

@@ -68,7 +68,11 @@ pub fn run(plan: RunPlan) -> Result<()> {
     let root = world.rank() == 0;
     let result = run_ranked(&plan, &world, root);
     match &result {
-        Err(e) if root && !matches!(e, Error::Unstable(_) | Error::Interrupted(_)) && refuse(&plan).is_ok() => {
+        Err(e)
+            if root
+                && !matches!(e, Error::Unstable(_) | Error::Interrupted(_))
+                && refuse(&plan).is_ok() =>
+        {
             // Only rank 0 writes: the others wait in a collective.
             eprintln!("error: {e}");
             world.abort(e.exit_code());
@@ -159,7 +163,10 @@ fn report(s: &mut RankStep, bodies: usize) -> Option<Report> {
     ];
     let (all, _) = s.comm.gather(&row)?;
     Some(Report {
-        rows: all.chunks_exact(ROW).map(|r| r.try_into().expect("rows of ROW")).collect(),
+        rows: all
+            .chunks_exact(ROW)
+            .map(|r| r.try_into().expect("rows of ROW"))
+            .collect(),
         bodies,
     })
 }
@@ -215,7 +222,11 @@ impl Report {
             .collect();
         let ranks = serde_json::to_string_pretty(&rows).expect("rows serialise");
         let body = text.trim_end().strip_suffix('}').ok_or_else(|| {
-            Error::bad(path.display().to_string(), "summary", "is not a JSON object")
+            Error::bad(
+                path.display().to_string(),
+                "summary",
+                "is not a JSON object",
+            )
         })?;
         let ranks = ranks.replace('\n', "\n  ");
         let out = format!("{},\n  \"ranks\": {ranks}\n}}\n", body.trim_end());

@@ -80,7 +80,11 @@ impl Slabs {
     /// The bodies rank `r` holds current states of: its own and its
     /// ghosts, ascending (so local order is global order).
     pub fn local(&self, r: usize) -> Vec<u32> {
-        let mut l: Vec<u32> = self.owned[r].iter().chain(&self.ghosts[r]).copied().collect();
+        let mut l: Vec<u32> = self.owned[r]
+            .iter()
+            .chain(&self.ghosts[r])
+            .copied()
+            .collect();
         l.sort_unstable();
         l
     }
@@ -109,7 +113,10 @@ mod tests {
             .collect();
         let s = Slabs::new(&centres, 3, 0.15);
         assert_eq!(s.axis, 2);
-        assert_eq!(s.owned, vec![vec![0, 1, 2], vec![3, 4, 5], vec![6, 7, 8, 9]]);
+        assert_eq!(
+            s.owned,
+            vec![vec![0, 1, 2], vec![3, 4, 5], vec![6, 7, 8, 9]]
+        );
         // Rank 1's slab is z ∈ [0.3, 0.5]: ghosts within 0.15 of it.
         assert_eq!(s.ghosts[1], vec![2, 6]);
         assert_eq!(s.sends(2, 1), vec![6]);

@@ -118,8 +118,12 @@ impl<'c> RankStep<'c> {
         }
         self.slabs = slabs;
         self.local = self.slabs.local(me);
-        self.sends = (0..self.comm.size).map(|to| self.slabs.sends(me, to)).collect();
-        self.recvs = (0..self.comm.size).map(|from| self.slabs.sends(from, me)).collect();
+        self.sends = (0..self.comm.size)
+            .map(|to| self.slabs.sends(me, to))
+            .collect();
+        self.recvs = (0..self.comm.size)
+            .map(|from| self.slabs.sends(from, me))
+            .collect();
         let Some(stage) = &w.contacts else { return };
         let (bodies, states) = (&scene.bodies, &w.states);
         let geoms: Vec<FibreGeom> = self
@@ -138,7 +142,10 @@ impl<'c> RankStep<'c> {
         let owner = &self.slabs.owner;
         let mine = |i: u32| owner[i as usize] as usize == me;
         let local = &self.local;
-        let mut list = self.list.take().unwrap_or_else(|| NeighbourList::new(stage.skin()));
+        let mut list = self
+            .list
+            .take()
+            .unwrap_or_else(|| NeighbourList::new(stage.skin()));
         list.pairs = local_list
             .pairs
             .iter()
@@ -180,7 +187,12 @@ impl<'c> RankStep<'c> {
             send.extend(&w.aux[i * len..(i + 1) * len]);
         }
         let all = if everywhere {
-            let counts: Vec<Count> = self.slabs.owned.iter().map(|o| (o.len() * per) as Count).collect();
+            let counts: Vec<Count> = self
+                .slabs
+                .owned
+                .iter()
+                .map(|o| (o.len() * per) as Count)
+                .collect();
             Some(self.comm.all_gather(&send, &counts))
         } else {
             self.comm.gather(&send).map(|(all, _)| all)
@@ -214,7 +226,11 @@ impl<'c> RankStep<'c> {
             }
             send_counts.push((to.len() * POSE) as Count);
         }
-        let recv_counts: Vec<Count> = self.recvs.iter().map(|r| (r.len() * POSE) as Count).collect();
+        let recv_counts: Vec<Count> = self
+            .recvs
+            .iter()
+            .map(|r| (r.len() * POSE) as Count)
+            .collect();
         let got = self.comm.all_to_all(&send, &send_counts, &recv_counts);
         for (&i, d) in self.recvs.iter().flatten().zip(got.chunks_exact(POSE)) {
             let s = &mut w.states[i as usize];
@@ -239,15 +255,29 @@ impl<'c> RankStep<'c> {
         }
         let t = Instant::now();
         let scene = w.scene;
-        let (Some(stage), Some(list)) = (&mut w.contacts, &self.list) else { return };
-        stage.compute_listed(list, &self.local, &scene.bodies, &w.states, &mut w.force, &mut w.torque);
+        let (Some(stage), Some(list)) = (&mut w.contacts, &self.list) else {
+            return;
+        };
+        stage.compute_listed(
+            list,
+            &self.local,
+            &scene.bodies,
+            &w.states,
+            &mut w.force,
+            &mut w.torque,
+        );
         self.clocks.forces += t.elapsed();
     }
 
     /// An opening stage on the owned bodies ([`World`]'s `open`, body by
     /// body the same operations): the first body (by index) whose rotator
     /// refuses the step, if any.
-    fn open<R: Rotator>(&mut self, w: &mut World, start: f64, h: f64) -> Option<(usize, RotatorFault)> {
+    fn open<R: Rotator>(
+        &mut self,
+        w: &mut World,
+        start: f64,
+        h: f64,
+    ) -> Option<(usize, RotatorFault)> {
         let scene = w.scene;
         let dt = h * scene.sim.dt();
         let t = (w.step as f64 + start) * scene.sim.dt();
@@ -297,7 +327,12 @@ impl<'c> RankStep<'c> {
 
     /// A rotator's refusal on any rank stops every rank with the
     /// one-process diagnosis: that of the lowest body index.
-    fn fault(&mut self, w: &World, mine: Option<(usize, RotatorFault)>, start: f64) -> Result<(), Box<Diagnosis>> {
+    fn fault(
+        &mut self,
+        w: &World,
+        mine: Option<(usize, RotatorFault)>,
+        start: f64,
+    ) -> Result<(), Box<Diagnosis>> {
         let send = match mine {
             Some((i, RotatorFault::ScalarSingularity { half_angle })) => [i as f64, half_angle],
             None => [-1.0, 0.0],
@@ -312,7 +347,12 @@ impl<'c> RankStep<'c> {
             Some(c) => {
                 let t = (w.step as f64 + start) * w.scene.sim.dt();
                 let f = RotatorFault::ScalarSingularity { half_angle: c[1] };
-                Err(Box::new(fault_diagnosis(f, w.scene.ids[c[0] as usize], w.step, t)))
+                Err(Box::new(fault_diagnosis(
+                    f,
+                    w.scene.ids[c[0] as usize],
+                    w.step,
+                    t,
+                )))
             }
         }
     }
@@ -336,7 +376,11 @@ impl<'c> RankStep<'c> {
             stage.for_each_hit(list, |wall, c, points| {
                 let key = if wall {
                     let (a, k) = list.walls[c as usize];
-                    HitKey { pair: false, a, b: k }
+                    HitKey {
+                        pair: false,
+                        a,
+                        b: k,
+                    }
                 } else {
                     let (a, b) = list.pairs[c as usize];
                     // A pair is summed once: by the owner of its body A.

@@ -29,7 +29,11 @@ const HEAD: usize = 3;
 /// Append one hit to a rank's message: its key and its points' `weight·U`
 /// (the overlap ratios go into the rank's [`Peak`] instead).
 pub(crate) fn push_hit(out: &mut Vec<f64>, key: HitKey, energies: impl Iterator<Item = f64>) {
-    let b = if key.pair { key.b as f64 } else { -1.0 - key.b as f64 };
+    let b = if key.pair {
+        key.b as f64
+    } else {
+        -1.0 - key.b as f64
+    };
     let at = out.len();
     out.extend([key.a as f64, b, 0.0]);
     out.extend(energies);
@@ -89,7 +93,11 @@ impl Peak {
     /// The one-process maximum of two ranks' peaks: the larger ratio, of
     /// equal ones the first in order.
     pub(crate) fn max(self, o: Peak) -> Peak {
-        let earlier = o.at.iter().zip(&self.at).find(|(x, y)| x != y).is_some_and(|(x, y)| x < y);
+        let earlier =
+            o.at.iter()
+                .zip(&self.at)
+                .find(|(x, y)| x != y)
+                .is_some_and(|(x, y)| x < y);
         if o.ratio > self.ratio || (o.ratio == self.ratio && o.ratio > 0.0 && earlier) {
             o
         } else {
@@ -108,7 +116,11 @@ pub(crate) fn contact_stats(msg: &[f64], peaks: &[Peak]) -> ContactStats {
     while k < msg.len() {
         let (a, b, n) = (msg[k], msg[k + 1], msg[k + 2] as usize);
         // Walls (b < 0) first, body-major, walls in order; then pairs.
-        let key = if b < 0.0 { (false, a, -1.0 - b) } else { (true, a, b) };
+        let key = if b < 0.0 {
+            (false, a, -1.0 - b)
+        } else {
+            (true, a, b)
+        };
         list.push((key, k + HEAD, k + HEAD + n));
         k += HEAD + n;
     }
@@ -175,7 +187,15 @@ mod tests {
         let pair = |a, b| HitKey { pair: true, a, b };
         push_hit(&mut r1, pair(0, 5), [1e16].into_iter());
         push_hit(&mut r0, pair(3, 4), [1.0].into_iter());
-        push_hit(&mut r1, HitKey { pair: false, a: 7, b: 2 }, [-1e16].into_iter());
+        push_hit(
+            &mut r1,
+            HitKey {
+                pair: false,
+                a: 7,
+                b: 2,
+            },
+            [-1e16].into_iter(),
+        );
         let msg: Vec<f64> = r0.iter().chain(&r1).copied().collect();
         let (mut p0, mut p1) = (Peak::default(), Peak::default());
         p0.note(0.3, [1.0, 3.0, 4.0, 0.0, 0.0], 3);

@@ -127,8 +127,12 @@ pub(crate) fn run_by<'s, S: driver::Stepper<'s>>(
     }
     observers.push(&mut summary);
     observers.push(&mut checkpoint); // last: it writes what the others added
-    let mut silent: Vec<observer::Silent> = observers.iter().map(|o| observer::Silent::of(&**o)).collect();
-    let mut silent: Vec<&mut dyn Observer> = silent.iter_mut().map(|o| o as &mut dyn Observer).collect();
+    let mut silent: Vec<observer::Silent> = observers
+        .iter()
+        .map(|o| observer::Silent::of(&**o))
+        .collect();
+    let mut silent: Vec<&mut dyn Observer> =
+        silent.iter_mut().map(|o| o as &mut dyn Observer).collect();
     let observers = if writer { &mut observers } else { &mut silent };
     let control = Control {
         checkpoint_every: opts.checkpoint_every,
@@ -146,11 +150,9 @@ pub(crate) fn run_by<'s, S: driver::Stepper<'s>>(
         crate::scenario::body_file::write(path, &scene.ids, &scene.bodies, &w.states, &names)?;
     }
     driver::outcome(finished.stopped)?;
-    Ok(Some(
-        summary
-            .summary
-            .expect("the summary observer has run at the end of the drive"),
-    ))
+    Ok(Some(summary.summary.expect(
+        "the summary observer has run at the end of the drive",
+    )))
 }
 
 /// Integrate `scene` with its rotator, without writing anything, calling
