@@ -102,7 +102,6 @@ impl<'s, T: Stepper<'s>> Stepper<'s> for &mut T {
 pub struct OneProcess;
 
 impl<'s> Stepper<'s> for OneProcess {
-    #[inline(always)]
     fn step<R: Rotator>(&mut self, w: &mut World<'s>) -> std::result::Result<(), Box<Diagnosis>> {
         w.step::<R>()
     }
