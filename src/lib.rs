@@ -34,6 +34,8 @@ pub mod integrate;
 pub mod math;
 pub mod output;
 pub mod plot;
+#[cfg(feature = "mpi")]
+pub mod ranks;
 pub mod reference;
 pub mod render;
 pub mod run;

@@ -128,6 +128,10 @@ fn print(text: &dyn std::fmt::Display) -> Result<()> {
 
 /// `fibresim run`: warnings, the resumed outputs, the run, and its summary.
 fn run(plan: plan::RunPlan) -> Result<()> {
+    #[cfg(feature = "mpi")]
+    if crate::ranks::launched() {
+        return crate::ranks::run(plan);
+    }
     for w in plan.warnings.iter().chain(&plan.advice.warnings) {
         eprintln!("warning: {w}");
     }
@@ -141,8 +145,20 @@ fn run(plan: plan::RunPlan) -> Result<()> {
     });
     let scene = &plan.scene;
     let outcome = crate::run::run_from(scene, &plan.opts, plan.resume.as_ref().map(|r| &r.0));
-    match &outcome {
-        Ok(s) if !plan.quiet => {
+    print_outcome(scene, &outcome, out_dir, plan.quiet);
+    outcome.map(|_| ())
+}
+
+/// What `fibresim run` prints of its outcome (the summary's headline, or
+/// where the outputs of a stopped run are).
+pub(crate) fn print_outcome(
+    scene: &crate::scenario::Scene,
+    outcome: &Result<crate::output::Summary>,
+    out_dir: &std::path::Path,
+    quiet: bool,
+) {
+    match outcome {
+        Ok(s) if !quiet => {
             println!(
                 "{}: {} steps of {:e} s with {} in {:.3} s ({:.1} ns per body-step) -> {}",
                 scene.source,
@@ -171,7 +187,6 @@ fn run(plan: plan::RunPlan) -> Result<()> {
         }
         _ => {}
     }
-    outcome.map(|_| ())
 }
 
 /// The command line as typed, with the program called `fibresim` (for the

@@ -281,6 +281,23 @@ impl NeighbourList {
                 })
     }
 
+    /// The skin width, m.
+    #[cfg(feature = "mpi")]
+    pub(crate) fn skin(&self) -> f64 {
+        2.0 * self.half_skin
+    }
+
+    /// Whether one fibre at `(x, q)` is still within the skin of its pose
+    /// `built` at the last build: the test of [`Self::still_valid`] for
+    /// one body (an MPI rank tests the bodies it owns).
+    #[cfg(feature = "mpi")]
+    #[inline]
+    pub(crate) fn body_within_skin(&self, x: DVec3, q: DQuat, built: &(DVec3, DQuat, f64)) -> bool {
+        let limit2 = 0.5 * self.half_skin * self.half_skin;
+        let &(x0, q0, h) = built;
+        x.distance_squared(x0) + 4.0 * h * h * (q - q0).length_squared() <= limit2
+    }
+
     /// Build the list for the fibres `geoms` at orientations `rotations`.
     /// (Once per ~2000 steps: kept out of the stage's per-step code.)
     #[inline(never)]

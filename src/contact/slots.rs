@@ -418,3 +418,42 @@ impl Slots {
         stats
     }
 }
+
+#[cfg(feature = "mpi")]
+impl Slots {
+    /// Each hit of the last [`Slots::compute`], walls first, in candidate
+    /// order: `(wall, candidate, points)`, each point `[weight·U, δ/D on A,
+    /// δ/D on B]` as the statistics of [`Slots::compute`] note them (an MPI
+    /// rank's share of the scene statistics, `src/ranks/tally.rs`).
+    pub(crate) fn for_each_hit(
+        &self,
+        list: &NeighbourList,
+        geoms: &[FibreGeom],
+        mut f: impl FnMut(bool, u32, &mut dyn Iterator<Item = [f64; 3]>),
+    ) {
+        for h in &self.wall_hits {
+            let a = list.walls[h.candidate as usize].0 as usize;
+            let ra = 2.0 * geoms[a].radius;
+            f(
+                true,
+                h.candidate,
+                &mut h.points.iter().map(|p| [p.energy, p.overlap / ra, 0.0]),
+            );
+        }
+        for h in &self.pair_hits {
+            let (a, b) = list.pairs[h.candidate as usize];
+            let (ra, rb) = (
+                2.0 * geoms[a as usize].radius,
+                2.0 * geoms[b as usize].radius,
+            );
+            f(
+                false,
+                h.candidate,
+                &mut h
+                    .points
+                    .iter()
+                    .map(|p| [p.energy, p.overlap / ra, p.overlap / rb]),
+            );
+        }
+    }
+}

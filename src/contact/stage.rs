@@ -347,3 +347,60 @@ impl ContactStats {
         }
     }
 }
+
+/// The hooks of an MPI rank's force stage (`src/ranks/`): the rank lists
+/// its own candidates (global body indices, sorted as the one-process list)
+/// and the stage computes them with the parallel path's slots, so every
+/// owned body gathers its contacts in the one-process order.
+#[cfg(feature = "mpi")]
+impl ContactStage {
+    /// The box walls, in the order the neighbour list numbers them.
+    pub(crate) fn walls(&self) -> &[Wall] {
+        &self.walls
+    }
+
+    /// The neighbour-list skin of the one-process stage, m.
+    pub(crate) fn skin(&self) -> f64 {
+        self.neighbours.skin()
+    }
+
+    /// Forces and torques from the candidates of `list` (global indices)
+    /// at `states`, for the bodies `local` (ascending; the geometry of no
+    /// other body is read). Bodies outside `local` get partial sums, which
+    /// the rank ignores.
+    pub(crate) fn compute_listed(
+        &mut self,
+        list: &NeighbourList,
+        local: &[u32],
+        bodies: &[Body],
+        states: &[BodyState],
+        force: &mut [DVec3],
+        torque: &mut [DVec3],
+    ) {
+        self.geoms.resize(bodies.len(), FibreGeom::default());
+        for &i in local {
+            let i = i as usize;
+            self.geoms[i] = geom(&bodies[i], &states[i]);
+        }
+        self.slots.compute(
+            list,
+            &self.geoms,
+            &self.walls,
+            &self.laws,
+            force,
+            torque,
+            &mut self.counters,
+            None,
+        );
+    }
+
+    /// Each touching candidate of the last [`Self::compute_listed`]:
+    /// `(wall, candidate, [(weight·U, δ/D on A, δ/D on B)])` in list order.
+    pub(crate) fn for_each_hit(
+        &self,
+        list: &NeighbourList,
+        f: impl FnMut(bool, u32, &mut dyn Iterator<Item = [f64; 3]>),
+    ) {
+        self.slots.for_each_hit(list, &self.geoms, f);
+    }
+}

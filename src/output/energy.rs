@@ -77,6 +77,10 @@ impl Observer for EnergyCsv {
         self.file.create(&cols)
     }
 
+    fn reads_states(&self) -> bool {
+        false
+    }
+
     fn event(&mut self, v: &View) {
         self.window = self.window.max(v.stats.since_event());
     }

@@ -107,6 +107,10 @@ impl Observer for Progress {
         Ok(())
     }
 
+    fn reads_states(&self) -> bool {
+        false
+    }
+
     fn resume(&mut self, c: &Checkpoint) -> Result<()> {
         // The bar starts at the checkpoint's step; the rate counts from here.
         self.first = Some((c.step, Instant::now()));

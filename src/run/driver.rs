@@ -71,16 +71,67 @@ pub fn drive<'s>(
     control: &Control,
     resume: Option<&Checkpoint>,
 ) -> Result<Finished<'s>> {
-    struct Drive<'a, 's, 'o> {
+    drive_by(scene, observers, control, resume, OneProcess)
+}
+
+/// How the driver takes a step and makes the world whole for its observers:
+/// [`OneProcess`] here; an MPI rank's decomposed step in `src/ranks/`.
+pub trait Stepper<'s> {
+    /// Before the first step (after `World::new` or a resume's restore).
+    fn start(&mut self, _w: &mut World<'s>) {}
+    /// One step of `w` with rotator `R`.
+    fn step<R: Rotator>(&mut self, w: &mut World<'s>) -> std::result::Result<(), Box<Diagnosis>>;
+    /// Before observers look at `w` (an event, a checkpoint, the end):
+    /// every state in place where the observers run.
+    fn sync(&mut self, _w: &mut World<'s>) {}
+}
+
+impl<'s, T: Stepper<'s>> Stepper<'s> for &mut T {
+    fn start(&mut self, w: &mut World<'s>) {
+        (**self).start(w)
+    }
+    fn step<R: Rotator>(&mut self, w: &mut World<'s>) -> std::result::Result<(), Box<Diagnosis>> {
+        (**self).step::<R>(w)
+    }
+    fn sync(&mut self, w: &mut World<'s>) {
+        (**self).sync(w)
+    }
+}
+
+/// The one-process step: [`World::step`].
+pub struct OneProcess;
+
+impl<'s> Stepper<'s> for OneProcess {
+    fn step<R: Rotator>(&mut self, w: &mut World<'s>) -> std::result::Result<(), Box<Diagnosis>> {
+        w.step::<R>()
+    }
+}
+
+/// [`drive`] with the steps taken by `stepper`.
+pub fn drive_by<'s, S: Stepper<'s>>(
+    scene: &'s Scene,
+    observers: &mut [&mut dyn Observer],
+    control: &Control,
+    resume: Option<&Checkpoint>,
+    stepper: S,
+) -> Result<Finished<'s>> {
+    struct Drive<'a, 's, 'o, S> {
         scene: &'s Scene,
         observers: &'a mut [&'o mut dyn Observer],
         control: &'a Control,
         resume: Option<&'a Checkpoint>,
+        stepper: S,
     }
-    impl<'s> RotatorVisitor for Drive<'_, 's, '_> {
+    impl<'s, S: Stepper<'s>> RotatorVisitor for Drive<'_, 's, '_, S> {
         type Output = Result<Finished<'s>>;
         fn visit<R: Rotator>(self) -> Self::Output {
-            drive_with::<R>(self.scene, self.observers, self.control, self.resume)
+            drive_with::<R, S>(
+                self.scene,
+                self.observers,
+                self.control,
+                self.resume,
+                self.stepper,
+            )
         }
     }
     scene.sim.rotator().visit(Drive {
@@ -88,6 +139,7 @@ pub fn drive<'s>(
         observers,
         control,
         resume,
+        stepper,
     })
 }
 
@@ -96,11 +148,12 @@ fn next_multiple(step: u64, n: u64) -> u64 {
     (step / n + 1) * n
 }
 
-fn drive_with<'s, R: Rotator>(
+fn drive_with<'s, R: Rotator, S: Stepper<'s>>(
     scene: &'s Scene,
     observers: &mut [&mut dyn Observer],
     control: &Control,
     resume: Option<&Checkpoint>,
+    mut stepper: S,
 ) -> Result<Finished<'s>> {
     let steps = scene.sim.steps();
     let mut world = World::new(scene);
@@ -135,6 +188,7 @@ fn drive_with<'s, R: Rotator>(
         Ok(())
     })();
     opening.map_err(crate::output::unwritable_at_start)?;
+    stepper.start(&mut world);
     let first_step = world.step;
 
     // Per observer, the next step that writes its row; the driver's next
@@ -158,7 +212,7 @@ fn drive_with<'s, R: Rotator>(
     let mut stopped: Option<Diagnosis> = None;
     let mut settled = false;
     while world.step < steps {
-        if let Err(d) = world.step::<R>() {
+        if let Err(d) = stepper.step::<R>(&mut world) {
             stopped = Some(*d);
             break;
         }
@@ -179,11 +233,19 @@ fn drive_with<'s, R: Rotator>(
         if world.step < next && !interrupted && !settled {
             continue;
         }
+        let last = world.step == steps || settled;
+        let states_read = last
+            || interrupted
+            || world.step == next_checkpoint
+            || (0..observers.len())
+                .any(|i| world.step == next_row[i] && observers[i].reads_states());
+        if states_read {
+            stepper.sync(&mut world);
+        }
         let v = View {
             world: &world,
             stats: &stats,
         };
-        let last = world.step == steps || settled;
         for o in observers.iter_mut() {
             o.event(&v);
         }
@@ -202,7 +264,13 @@ fn drive_with<'s, R: Rotator>(
             next_checkpoint = next_checkpoint.saturating_add(checkpoint_every);
         }
         if interrupted || periodic {
-            let mut c = Checkpoint::of::<R>(&world, &stats);
+            // Every observer has folded this event's window: the resumed
+            // run starts a new one, as the whole run does after the event.
+            let after_event = RunStats {
+                since_event: Default::default(),
+                ..stats
+            };
+            let mut c = Checkpoint::of::<R>(&world, &after_event);
             for o in observers.iter_mut() {
                 o.checkpoint(&mut c)?;
             }
@@ -233,6 +301,7 @@ fn drive_with<'s, R: Rotator>(
         stats.reset_window();
     }
     let wall_s = start.elapsed().as_secs_f64();
+    stepper.sync(&mut world);
     let end = RunEnd {
         stopped: stopped.as_ref(),
         wall_s,

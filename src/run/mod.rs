@@ -76,8 +76,25 @@ fn run_observed(
     resume: Option<&Checkpoint>,
     progress: Option<Progress>,
 ) -> Result<Summary> {
+    run_by(scene, opts, resume, progress, driver::OneProcess, true)
+        .map(|s| s.expect("the writing process has a summary"))
+}
+
+/// [`run_observed`] with the steps taken by `stepper`; only the `writer`
+/// writes outputs (an MPI rank other than 0 drives the same cadences with
+/// silent observers, and gets no summary).
+pub(crate) fn run_by<'s, S: driver::Stepper<'s>>(
+    scene: &'s Scene,
+    opts: &RunOptions,
+    resume: Option<&Checkpoint>,
+    progress: Option<Progress>,
+    stepper: S,
+    writer: bool,
+) -> Result<Option<Summary>> {
     let dir = &opts.out_dir;
-    crate::output::create_out_dir(dir)?;
+    if writer {
+        crate::output::create_out_dir(dir)?;
+    }
     let every = scene.sim.every_or_default();
     let mut energy = EnergyCsv::new(dir, every, scene.needs_contacts())
         .with_dissipation(scene.damping.is_some());
@@ -110,21 +127,32 @@ fn run_observed(
     }
     observers.push(&mut summary);
     observers.push(&mut checkpoint); // last: it writes what the others added
+    let mut silent: Vec<observer::Silent> = observers
+        .iter()
+        .map(|o| observer::Silent::of(&**o))
+        .collect();
+    let mut silent: Vec<&mut dyn Observer> =
+        silent.iter_mut().map(|o| o as &mut dyn Observer).collect();
+    let observers = if writer { &mut observers } else { &mut silent };
     let control = Control {
         checkpoint_every: opts.checkpoint_every,
         interrupt: Some((&INTERRUPTED, checkpoint_path)),
         settle: opts.settle,
     };
-    let finished = drive(scene, &mut observers, &control, resume)?;
+    let finished = driver::drive_by(scene, observers, &control, resume, stepper)?;
+    if !writer {
+        driver::outcome(finished.stopped)?;
+        return Ok(None);
+    }
     if let Some(path) = &opts.write_bodies {
         let names: Vec<String> = scene.materials.iter().map(|m| m.name.clone()).collect();
         let w = &finished.world;
         crate::scenario::body_file::write(path, &scene.ids, &scene.bodies, &w.states, &names)?;
     }
     driver::outcome(finished.stopped)?;
-    Ok(summary
-        .summary
-        .expect("the summary observer has run at the end of the drive"))
+    Ok(Some(summary.summary.expect(
+        "the summary observer has run at the end of the drive",
+    )))
 }
 
 /// Integrate `scene` with its rotator, without writing anything, calling

@@ -46,6 +46,13 @@ pub trait Observer {
         false
     }
 
+    /// Whether its rows read the bodies' states (not only the ledger and
+    /// the contact statistics). Under MPI the states are gathered to rank
+    /// 0 only for the events that need them (`src/ranks/`).
+    fn reads_states(&self) -> bool {
+        true
+    }
+
     /// A new run starts (not a resumed one): create the output files.
     fn start(&mut self, _v: &View) -> Result<()> {
         Ok(())
@@ -93,5 +100,37 @@ impl<F: FnMut(&World)> Observer for EachStep<F> {
 
     fn after_step(&mut self, v: &View) {
         (self.0)(v.world)
+    }
+}
+
+/// An observer that writes nothing but keeps another's cadences: an MPI
+/// rank other than 0 drives its loop through the same events (the
+/// collective gathers of `src/ranks/` happen at them) without writing.
+pub(crate) struct Silent {
+    every: Option<u64>,
+    every_step: bool,
+    reads_states: bool,
+}
+
+impl Silent {
+    /// The cadences of `o`.
+    pub(crate) fn of(o: &dyn Observer) -> Self {
+        Silent {
+            every: o.every(),
+            every_step: o.every_step(),
+            reads_states: o.reads_states(),
+        }
+    }
+}
+
+impl Observer for Silent {
+    fn every(&self) -> Option<u64> {
+        self.every
+    }
+    fn every_step(&self) -> bool {
+        self.every_step
+    }
+    fn reads_states(&self) -> bool {
+        self.reads_states
     }
 }

@@ -1,0 +1,236 @@
+//! MPI domain decomposition (cargo feature `mpi`): `mpirun -np K fibresim
+//! run SCENARIO` splits the bodies between K ranks and gives the bytes of
+//! one process.
+//!
+//! - [`slabs`]: K slabs along the axis of largest centre spread, cut by
+//!   fibre count; ghosts within L_max + D_max + skin of a slab.
+//! - [`stepper`]: one rank's step (owned bodies, ghost exchange, migration
+//!   at the one-process rebuilds, forces in the one-process order).
+//! - [`tally`]: the scene sums (ledger, contact statistics) on rank 0 in
+//!   the one-process order, broadcast to every rank.
+//! - [`comm`]: the collectives (rsmpi), timed and counted.
+//!
+//! Outputs are written by rank 0, which gathers the states at every output
+//! event, checkpoint and at the end (checkpoints are the one-process
+//! format, so they resume with any number of ranks). MPI calls are made
+//! only outside the rayon scopes of the force stage, so each rank still
+//! runs its own threads (`--threads`).
+
+mod comm;
+mod slabs;
+mod stepper;
+mod tally;
+
+use crate::cli::plan::RunPlan;
+use crate::error::{Error, Result};
+use comm::Comm;
+use mpi::traits::*;
+use stepper::{Clocks, RankStep};
+
+/// Whether this process was started by an MPI launcher (OpenMPI's or
+/// MPICH's `mpirun`/`mpiexec`, or a PMIx launcher such as `srun`).
+pub fn launched() -> bool {
+    ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"]
+        .iter()
+        .any(|k| std::env::var_os(k).is_some())
+}
+
+/// What the decomposition does not cover yet, refused with its fix.
+fn refuse(plan: &RunPlan) -> Result<()> {
+    let scene = &plan.scene;
+    if scene.output.vtk_every.is_some() {
+        return Err(Error::bad(
+            &scene.source,
+            "vtk_every",
+            "VTK frames are not written under mpirun yet; run without mpirun for frames, \
+             or drop `--vtk-every` / `[output] vtk_every`",
+        ));
+    }
+    if scene.damping.is_some() {
+        return Err(Error::bad(
+            &scene.source,
+            "restitution",
+            "damped scenes (settling) are not decomposed yet; run them without mpirun",
+        ));
+    }
+    Ok(())
+}
+
+/// `fibresim run` on the MPI ranks: every rank runs the same command
+/// line; rank 0 writes and prints. A stop (a guard, Ctrl-C) ends every
+/// rank with the same diagnosis and exit code; an error of rank 0 alone
+/// (an output it cannot write) aborts the job with its exit code.
+pub fn run(plan: RunPlan) -> Result<()> {
+    let Some((universe, _)) = mpi::initialize_with_threading(mpi::Threading::Funneled) else {
+        return Err(Error::bad("mpirun", "MPI", "MPI could not be initialised"));
+    };
+    let world = universe.world();
+    let root = world.rank() == 0;
+    let result = run_ranked(&plan, &world, root);
+    match &result {
+        Err(e)
+            if root
+                && !matches!(e, Error::Unstable(_) | Error::Interrupted(_))
+                && refuse(&plan).is_ok() =>
+        {
+            // Only rank 0 writes: the others wait in a collective.
+            eprintln!("error: {e}");
+            world.abort(e.exit_code());
+        }
+        _ => {}
+    }
+    drop(world);
+    drop(universe);
+    match result {
+        Err(e) if !root => std::process::exit(e.exit_code()),
+        r => r,
+    }
+}
+
+fn run_ranked(plan: &RunPlan, world: &mpi::topology::SimpleCommunicator, root: bool) -> Result<()> {
+    refuse(plan)?;
+    let out_dir = &plan.opts.out_dir;
+    if root {
+        for w in plan.warnings.iter().chain(&plan.advice.warnings) {
+            eprintln!("warning: {w}");
+        }
+        if let Some((c, from)) = &plan.resume {
+            crate::run::copy_resume_outputs(c, from, out_dir)?;
+        }
+    }
+    let _ = ctrlc::set_handler(|| {
+        crate::run::INTERRUPTED.store(true, std::sync::atomic::Ordering::Relaxed)
+    });
+    let scene = &plan.scene;
+    let progress = (root && plan.opts.progress)
+        .then(|| crate::output::Progress::terminal(scene.sim.steps()))
+        .flatten();
+    let mut stepper = RankStep::new(Comm::new(world));
+    let outcome = crate::run::run_by(
+        scene,
+        &plan.opts,
+        plan.resume.as_ref().map(|r| &r.0),
+        progress,
+        &mut stepper,
+        root,
+    );
+    if let Err(e) = &outcome {
+        if root && !matches!(e, Error::Unstable(_) | Error::Interrupted(_)) {
+            return outcome.map(|_| ());
+        }
+    }
+    let ranks = report(&mut stepper, scene.bodies.len());
+    if let (Some(ranks), Ok(Some(_))) = (&ranks, &outcome) {
+        if !plan.quiet {
+            eprint!("{}", ranks.table());
+        }
+        if stepper.comm.size > 1 {
+            ranks.splice_into(&out_dir.join("summary.json"))?;
+        }
+    }
+    if root {
+        let o = outcome.map(|s| s.expect("rank 0 writes the summary"));
+        crate::cli::print_outcome(scene, &o, out_dir, plan.quiet);
+        o.map(|_| ())
+    } else {
+        outcome.map(|_| ())
+    }
+}
+
+/// The per-rank report, on rank 0.
+struct Report {
+    rows: Vec<[f64; ROW]>,
+    bodies: usize,
+}
+
+const ROW: usize = 10;
+
+/// Every rank's clocks and traffic, on rank 0.
+fn report(s: &mut RankStep, bodies: usize) -> Option<Report> {
+    let c: Clocks = s.clocks;
+    let steps = c.steps.max(1) as f64;
+    let row = [
+        c.owned as f64 / steps,
+        c.ghosts as f64 / steps,
+        c.forces.as_secs_f64(),
+        c.integrate.as_secs_f64(),
+        s.comm.time.as_secs_f64(),
+        s.comm.waiting.as_secs_f64(),
+        s.comm.bytes as f64,
+        c.steps as f64,
+        c.rebuilds as f64,
+        c.migrated as f64,
+    ];
+    let (all, _) = s.comm.gather(&row)?;
+    Some(Report {
+        rows: all
+            .chunks_exact(ROW)
+            .map(|r| r.try_into().expect("rows of ROW"))
+            .collect(),
+        bodies,
+    })
+}
+
+impl Report {
+    fn table(&self) -> String {
+        let mut t = String::from(
+            "rank  fibres  ghosts  force_s  integrate_s  comm_s  wait_s  bytes/step  bytes/fibre-step  rebuilds  migrated\n",
+        );
+        for (r, row) in self.rows.iter().enumerate() {
+            let per_step = row[6] / row[7].max(1.0);
+            t += &format!(
+                "{r:>4}  {:>6.0}  {:>6.0}  {:>7.3}  {:>11.3}  {:>6.3}  {:>6.3}  {:>10.0}  {:>16.1}  {:>8.0}  {:>8.0}\n",
+                row[0],
+                row[1],
+                row[2],
+                row[3],
+                row[4],
+                row[5],
+                per_step,
+                per_step / row[0].max(1.0),
+                row[8],
+                row[9]
+            );
+        }
+        t
+    }
+
+    /// Add the report to `summary.json` under `ranks` (only for K > 1, so
+    /// a one-process summary keeps its bytes).
+    fn splice_into(&self, path: &std::path::Path) -> Result<()> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let rows: Vec<serde_json::Value> = self
+            .rows
+            .iter()
+            .enumerate()
+            .map(|(r, row)| {
+                let per_step = row[6] / row[7].max(1.0);
+                serde_json::json!({
+                    "rank": r,
+                    "fibres": row[0],
+                    "ghosts": row[1],
+                    "force_s": row[2],
+                    "integrate_s": row[3],
+                    "comm_s": row[4],
+                    "wait_s": row[5],
+                    "bytes_per_step": per_step,
+                    "bytes_per_fibre_step": per_step / row[0].max(1.0),
+                    "rebuilds": row[8],
+                    "migrated": row[9],
+                })
+            })
+            .collect();
+        let ranks = serde_json::to_string_pretty(&rows).expect("rows serialise");
+        let body = text.trim_end().strip_suffix('}').ok_or_else(|| {
+            Error::bad(
+                path.display().to_string(),
+                "summary",
+                "is not a JSON object",
+            )
+        })?;
+        let ranks = ranks.replace('\n', "\n  ");
+        let out = format!("{},\n  \"ranks\": {ranks}\n}}\n", body.trim_end());
+        let _ = self.bodies;
+        std::fs::write(path, out).map_err(|e| Error::io(path, e))
+    }
+}
