@@ -266,10 +266,8 @@ fn drive_with<'s, R: Rotator, S: Stepper<'s>>(
         if interrupted || periodic {
             // Every observer has folded this event's window: the resumed
             // run starts a new one, as the whole run does after the event.
-            let after_event = RunStats {
-                since_event: Default::default(),
-                ..stats
-            };
+            let mut after_event = stats;
+            after_event.reset_window();
             let mut c = Checkpoint::of::<R>(&world, &after_event);
             for o in observers.iter_mut() {
                 o.checkpoint(&mut c)?;
