@@ -7,6 +7,7 @@ pub mod compare;
 pub mod converge;
 pub mod csvplot;
 pub mod fit;
+pub mod long_run;
 pub mod order;
 pub mod stress;
 mod style;

@@ -85,9 +85,10 @@ rotator_list! {
     rkmk4::Rkmk4,
     split::Split,
     // Not shipped: on the manufactured case (asymmetric body under torque)
-    // its error stops falling at ~1e-10 rad (a rounding bias of ~1e-15 rad
-    // per elliptic sub-step), so it fails its order test there (README,
-    // Rotators: left out).
+    // its error stops falling at ~1e-10 rad, an error of the elliptic free
+    // flow linear in the sub-step (~3.8e-11 rad per second of flow on the
+    // polhodes that case visits), so it fails its order test there (README,
+    // Rotators beyond the paper: left out).
     #[cfg(test)]
     split4::Split4,
     frozen::Frozen,
