@@ -83,6 +83,18 @@ pub fn drive<'s>(
             drive_with::<R>(self.scene, self.observers, self.control, self.resume)
         }
     }
+    // A composition (several force stages) in a contact scene: exit 2.
+    if let Some(why) = scene
+        .needs_contacts()
+        .then(|| scene.sim.rotator().contact_refusal())
+        .flatten()
+    {
+        return Err(crate::error::Error::bad(
+            scene.source.clone(),
+            "simulation.rotator",
+            why,
+        ));
+    }
     scene.sim.rotator().visit(Drive {
         scene,
         observers,

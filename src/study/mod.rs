@@ -54,6 +54,36 @@ pub fn parse_rotators(list: Option<&str>) -> Result<Vec<RotatorKind>> {
     Ok(out)
 }
 
+/// The rotators of `kinds` that can run `scene`: in a scene that computes
+/// contacts the compositions (`split4`) are left out, with a note on stderr
+/// ([`RotatorKind::contact_refusal`]); none left is bad input naming
+/// `--rotators`.
+pub(crate) fn runnable(scene: &Scene, kinds: &[RotatorKind]) -> Result<Vec<RotatorKind>> {
+    if !scene.needs_contacts() {
+        return Ok(kinds.to_vec());
+    }
+    let (ok, refused): (Vec<RotatorKind>, Vec<RotatorKind>) = kinds
+        .iter()
+        .copied()
+        .partition(|k| k.contact_refusal().is_none());
+    match (ok.is_empty(), refused.first()) {
+        (true, Some(k)) => Err(Error::bad(
+            "command line",
+            "--rotators",
+            k.contact_refusal().unwrap_or_default(),
+        )),
+        (_, Some(_)) => {
+            let names: Vec<_> = refused.iter().map(|k| k.name()).collect();
+            eprintln!(
+                "note: {} left out: contact-free scenes only (one force evaluation per step here)",
+                names.join(", ")
+            );
+            Ok(ok)
+        }
+        _ => Ok(ok),
+    }
+}
+
 /// `scene` with rotator `kind`, step `dt` and end time `t_end` (checked).
 pub(crate) fn with_params(scene: &Scene, kind: RotatorKind, dt: f64, t_end: f64) -> Result<Scene> {
     let mut s = scene.clone();
