@@ -100,3 +100,44 @@ fn reversibility_is_as_listed() {
         }
     }
 }
+
+/// The long-run and reversibility table of every rotator (issue 14):
+/// 10⁶ steps on the asymmetric top (1e-4 s) and on the precessing fibre
+/// (1e-5 s), energy and angular momentum against their start, orientation
+/// against the closed form, and the round trip (forward 2 s at 5e-3 s on
+/// the top, 0.2 s at 5e-4 s on the fibre, ω flipped, back). Ignored: ~2 min
+/// of CPU. `cargo test --release --test free_flight -- --ignored --nocapture long_runs`
+/// prints the markdown the README quotes and writes it to
+/// `target/long_runs.md`.
+#[test]
+#[ignore]
+fn long_runs_table() {
+    use fibresim::study::long_run::{long_run, markdown, round_trip};
+    let mut out = String::new();
+    for (file, dt, rev_dt, rev_n) in [
+        ("asymmetric_top.toml", 1e-4, 5e-3, 400),
+        ("precessing_fibre.toml", 1e-5, 5e-4, 400),
+    ] {
+        let scene = scene_file(file);
+        let runs: Vec<_> = RotatorKind::ALL
+            .iter()
+            .map(|&k| {
+                let r = long_run(&scene, k, dt, 1_000_000, 10_000);
+                let rev = round_trip(&scene, k, rev_dt, rev_n);
+                eprintln!("{file} {k}: {:?} rev {rev:.2e}", r.trend);
+                (r, rev)
+            })
+            .collect();
+        let title = format!(
+            "**`{file}`**, 10⁶ steps of {dt:e} s (samples every 10⁴ steps); reversibility: {rev_n} steps of {rev_dt:e} s forward and back"
+        );
+        out += &markdown(&title, &runs);
+        out.push('\n');
+    }
+    println!("{out}");
+    std::fs::write(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/target/long_runs.md"),
+        &out,
+    )
+    .unwrap();
+}

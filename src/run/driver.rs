@@ -134,6 +134,18 @@ pub fn drive_by<'s, S: Stepper<'s>>(
             )
         }
     }
+    // A composition (several force stages) in a contact scene: exit 2.
+    if let Some(why) = scene
+        .needs_contacts()
+        .then(|| scene.sim.rotator().contact_refusal())
+        .flatten()
+    {
+        return Err(crate::error::Error::bad(
+            scene.source.clone(),
+            "simulation.rotator",
+            why,
+        ));
+    }
     scene.sim.rotator().visit(Drive {
         scene,
         observers,

@@ -110,6 +110,10 @@ const REF_FACTOR: u64 = 10;
 /// Run every rotator of `opts` on `scene` and write the runs, `compare.csv`
 /// and the error figure.
 pub fn compare(scene: &Scene, opts: &CompareOptions) -> Result<CompareReport> {
+    let opts = &CompareOptions {
+        rotators: super::runnable(scene, &opts.rotators)?,
+        ..opts.clone()
+    };
     let dt = opts.dt.unwrap_or(scene.sim.dt());
     let t_end = opts.t_end.unwrap_or(scene.sim.t_end());
     let scenes: Vec<Scene> = opts

@@ -7,6 +7,7 @@ pub mod compare;
 pub mod converge;
 pub mod csvplot;
 pub mod fit;
+pub mod long_run;
 pub mod order;
 pub mod stress;
 mod style;
@@ -51,6 +52,36 @@ pub fn parse_rotators(list: Option<&str>) -> Result<Vec<RotatorKind>> {
         return Err(Error::bad("command line", "--rotators", "no rotator given"));
     }
     Ok(out)
+}
+
+/// The rotators of `kinds` that can run `scene`: in a scene that computes
+/// contacts the compositions (`split4`) are left out, with a note on stderr
+/// ([`RotatorKind::contact_refusal`]); none left is bad input naming
+/// `--rotators`.
+pub(crate) fn runnable(scene: &Scene, kinds: &[RotatorKind]) -> Result<Vec<RotatorKind>> {
+    if !scene.needs_contacts() {
+        return Ok(kinds.to_vec());
+    }
+    let (ok, refused): (Vec<RotatorKind>, Vec<RotatorKind>) = kinds
+        .iter()
+        .copied()
+        .partition(|k| k.contact_refusal().is_none());
+    match (ok.is_empty(), refused.first()) {
+        (true, Some(k)) => Err(Error::bad(
+            "command line",
+            "--rotators",
+            k.contact_refusal().unwrap_or_default(),
+        )),
+        (_, Some(_)) => {
+            let names: Vec<_> = refused.iter().map(|k| k.name()).collect();
+            eprintln!(
+                "note: {} left out: contact-free scenes only (one force evaluation per step here)",
+                names.join(", ")
+            );
+            Ok(ok)
+        }
+        _ => Ok(ok),
+    }
 }
 
 /// `scene` with rotator `kind`, step `dt` and end time `t_end` (checked).

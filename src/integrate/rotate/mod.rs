@@ -84,11 +84,6 @@ rotator_list! {
     spiral_vv::SpiralVv,
     rkmk4::Rkmk4,
     split::Split,
-    // Not shipped: on the manufactured case (asymmetric body under torque)
-    // its error stops falling at ~1e-10 rad (a rounding bias of ~1e-15 rad
-    // per elliptic sub-step), so it fails its order test there (README,
-    // Rotators: left out).
-    #[cfg(test)]
     split4::Split4,
     frozen::Frozen,
     #[cfg(test)]
@@ -358,6 +353,36 @@ impl RotatorKind {
         RotatorKind::Euler,
         RotatorKind::Leapfrog,
     ];
+
+    /// Force evaluations per step: the [`Stage::Forces`] stages of its
+    /// [`Rotator::STAGES`].
+    pub fn force_evaluations(self) -> usize {
+        struct Count;
+        impl RotatorVisitor for Count {
+            type Output = usize;
+            fn visit<R: Rotator>(self) -> usize {
+                R::STAGES
+                    .iter()
+                    .filter(|s| matches!(s, Stage::Forces))
+                    .count()
+            }
+        }
+        self.visit(Count)
+    }
+
+    /// Why this scheme refuses a scene that computes contacts, if it does:
+    /// a composition evaluates forces several times per step, and the
+    /// contact stage (its damping ledger, its per-step impact bounds) is
+    /// written for one evaluation per step of `δt`.
+    pub fn contact_refusal(self) -> Option<String> {
+        let n = self.force_evaluations();
+        (n > 1).then(|| {
+            format!(
+                "rotator `{}` evaluates forces {n} times per step (sub-steps of other lengths than dt, one backwards) and is for contact-free scenes only: the contact stage is written for one force evaluation per step. Use `split` (second order, one evaluation) here, or remove the `[box]` and keep one body",
+                self.name()
+            )
+        })
+    }
 
     /// The rotator's name (`--rotator`).
     pub fn name(self) -> &'static str {

@@ -148,6 +148,10 @@ type MetricFn = fn(&Point) -> f64;
 
 /// Run the convergence study and write its outputs.
 pub fn converge(scene: &Scene, opts: &ConvergeOptions) -> Result<ConvergeReport> {
+    let opts = &ConvergeOptions {
+        rotators: super::runnable(scene, &opts.rotators)?,
+        ..opts.clone()
+    };
     let start = Instant::now();
     crate::output::create_out_dir(&opts.out_dir)?;
     let t_end = opts.t_end.unwrap_or(scene.sim.t_end());

@@ -103,6 +103,14 @@ pub fn stress(cases: Vec<StressCase>, opts: &StressOptions) -> Result<StressRepo
             "give finite factors > 0, e.g. 0.25,1,4,16",
         ));
     }
+    // Every case computes contacts: the compositions are left out.
+    let opts = &match cases.iter().find(|c| c.scene.needs_contacts()) {
+        Some(c) => StressOptions {
+            rotators: super::runnable(&c.scene, &opts.rotators)?,
+            ..opts.clone()
+        },
+        None => opts.clone(),
+    };
     crate::output::create_out_dir(&opts.out_dir)?;
     let runs = sweep::sweep(&cases, opts)?;
     let summary = summary::summarise(&cases, &runs, opts);
