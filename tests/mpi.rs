@@ -316,11 +316,15 @@ fn a_guard_stops_every_rank_with_the_one_process_diagnosis() {
         stopped(&a)
     );
     assert_eq!(stopped(&a), stopped(&b));
-    let error = |o: &Output| {
-        String::from_utf8_lossy(&o.stderr)
-            .lines()
-            .find(|l| l.starts_with("error:"))
-            .map(str::to_owned)
-    };
-    assert_eq!(error(&one), error(&two), "the same diagnosis, printed once");
+    // The diagnosis itself is compared above, from summary.json. On stderr
+    // only rank 0 prints it; mpirun forwards a failing job's stderr
+    // unordered and may cut a line with its own banner (seen under load),
+    // so the printed line is checked for "once at most", not to the byte.
+    let one_err = String::from_utf8_lossy(&one.stderr);
+    assert_eq!(one_err.matches("run stopped:").count(), 1, "{one_err}");
+    let two_err = String::from_utf8_lossy(&two.stderr);
+    assert!(
+        two_err.matches("run stopped:").count() <= 1,
+        "printed by more than one rank:\n{two_err}"
+    );
 }
