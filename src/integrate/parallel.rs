@@ -9,20 +9,9 @@ use super::verlet;
 use super::world::World;
 use crate::body::BodyState;
 use crate::energy::Ledger;
-use crate::torque::PrescribedTorque;
+use crate::scenario::scene::prescribed_on;
 use glam::DVec3;
 use rayon::prelude::*;
-
-/// The prescribed torque of body `i`, from the sparse list sorted by body.
-#[inline]
-fn prescribed(list: &[crate::scenario::Prescribed], i: usize) -> Option<&PrescribedTorque> {
-    if list.is_empty() {
-        return None;
-    }
-    list.binary_search_by_key(&i, |p| p.body)
-        .ok()
-        .map(|k| &list[k].torque)
-}
 
 impl World<'_> {
     /// [`Self::open`] on the thread pool, for rotators that never refuse a
@@ -36,7 +25,7 @@ impl World<'_> {
         par_bodies::<R>(&mut self.states, &mut self.aux, |i, s, a| {
             let body = &scene.bodies[i];
             verlet::kick_drift(&mut s.x, &mut s.v, force[i] * body.inv_mass + g, dt);
-            let tau = pooled(torque_source(prescribed(&scene.torques, i), torque[i]));
+            let tau = pooled(torque_source(prescribed_on(&scene.torques, i), torque[i]));
             let _ = R::advance(&mut s.rot, a, &body.inertia, tau, t, dt);
         });
     }
@@ -52,7 +41,7 @@ impl World<'_> {
         par_bodies::<R>(&mut self.states, &mut self.aux, |i, s, a| {
             let body = &scene.bodies[i];
             verlet::kick(&mut s.v, force[i] * body.inv_mass + g, dt);
-            let tau = pooled(torque_source(prescribed(&scene.torques, i), torque[i]));
+            let tau = pooled(torque_source(prescribed_on(&scene.torques, i), torque[i]));
             R::finish(&mut s.rot, a, &body.inertia, tau, t_end, dt);
         });
         if !last {

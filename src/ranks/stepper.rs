@@ -36,6 +36,7 @@ use crate::integrate::step::for_ranks::{
 use crate::integrate::step::World;
 use crate::integrate::verlet;
 use crate::run::driver::Stepper;
+use crate::scenario::scene::prescribed_on;
 use crate::stop::Diagnosis;
 use crate::torque::PrescribedTorque;
 use glam::{DQuat, DVec3};
@@ -290,7 +291,7 @@ impl<'c> RankStep<'c> {
             let i = i as usize;
             let (s, body) = (&mut w.states[i], &scene.bodies[i]);
             verlet::kick_drift(&mut s.x, &mut s.v, w.force[i] * body.inv_mass + g, dt);
-            let torque = torque_source(prescribed(&scene.torques, i), w.torque[i]);
+            let torque = torque_source(prescribed_on(&scene.torques, i), w.torque[i]);
             let aux = &mut w.aux[i * len..(i + 1) * len];
             let mut a = R::Aux::read(aux);
             if let Err(f) = R::advance(&mut s.rot, &mut a, &body.inertia, torque, t, dt) {
@@ -315,7 +316,7 @@ impl<'c> RankStep<'c> {
             let i = i as usize;
             let (s, body) = (&mut w.states[i], &scene.bodies[i]);
             verlet::kick(&mut s.v, w.force[i] * body.inv_mass + g, dt);
-            let torque = torque_source(prescribed(&scene.torques, i), w.torque[i]);
+            let torque = torque_source(prescribed_on(&scene.torques, i), w.torque[i]);
             let aux = &mut w.aux[i * len..(i + 1) * len];
             let mut a = R::Aux::read(aux);
             R::finish(&mut s.rot, &mut a, &body.inertia, torque, t_end, dt);
@@ -476,17 +477,6 @@ fn torque_source(
     contact: DVec3,
 ) -> impl Fn(f64) -> DVec3 + '_ {
     move |t| prescribed.map_or(DVec3::ZERO, |p| p.at(t)) + contact
-}
-
-/// The prescribed torque of body `i`, from the sparse list sorted by body.
-#[inline]
-fn prescribed(list: &[crate::scenario::Prescribed], i: usize) -> Option<&PrescribedTorque> {
-    if list.is_empty() {
-        return None;
-    }
-    list.binary_search_by_key(&i, |p| p.body)
-        .ok()
-        .map(|k| &list[k].torque)
 }
 
 impl<'s> Stepper<'s> for RankStep<'_> {

@@ -18,6 +18,17 @@ pub struct Prescribed {
     pub torque: PrescribedTorque,
 }
 
+/// The prescribed torque of body `i`, from the sparse list sorted by body.
+#[inline]
+pub fn prescribed_on(list: &[Prescribed], i: usize) -> Option<&PrescribedTorque> {
+    if list.is_empty() {
+        return None;
+    }
+    list.binary_search_by_key(&i, |p| p.body)
+        .ok()
+        .map(|k| &list[k].torque)
+}
+
 /// A checked scene, ready to run.
 #[derive(Debug, Clone)]
 pub struct Scene {
