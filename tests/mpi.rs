@@ -41,6 +41,15 @@ fn ranks(k: usize, args: &[&str]) -> Output {
     })
 }
 
+/// One process (one thread) for `k = 1`, else `k` ranks under mpirun.
+fn on(k: usize, args: &[&str]) -> Output {
+    if k == 1 {
+        plain(&[args, &["--threads", "1"]].concat())
+    } else {
+        ranks(k, args)
+    }
+}
+
 fn ok(o: &Output) {
     assert!(
         o.status.success(),
@@ -229,11 +238,7 @@ fn a_checkpoint_resumes_with_another_rank_count() {
             "1500",
             "-q",
         ];
-        if k == 1 {
-            ok(&plain(&[&a[..], &["--threads", "1"]].concat()));
-        } else {
-            ok(&ranks(k, &a));
-        }
+        ok(&on(k, &a));
         out.join("checkpoint.json")
     };
     let resume = |ckpt: &Path, dir: &str, k: usize| {
@@ -250,11 +255,7 @@ fn a_checkpoint_resumes_with_another_rank_count() {
             "1500",
             "-q",
         ];
-        if k == 1 {
-            ok(&plain(&[&a[..], &["--threads", "1"]].concat()));
-        } else {
-            ok(&ranks(k, &a));
-        }
+        ok(&on(k, &a));
         bytes(&out)
     };
     let reference = resume(&half("h1", 1), "r11", 1);
