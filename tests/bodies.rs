@@ -230,3 +230,68 @@ fn start_overlaps_are_accepted_up_to_the_tolerance() {
         "{err}"
     );
 }
+
+/// `fibresim replicate`: two parallel fibres, A pressed δ₁ into the box's
+/// +x wall and B δ₂ into its −x wall, copied twice along x. The copies'
+/// states are the source's bit for bit, moved by one box side; A of the
+/// first copy and B of the second meet side by side at the seam with the
+/// overlap δ₁ + δ₂ (2r minus their axis distance: closed form), so the bed
+/// has 3 contacts (the two outer walls and the seam) where the copies had 2
+/// each, and the written tolerance admits the seam.
+#[test]
+fn replicated_beds_copy_states_and_measure_the_seams() {
+    let dir = tempfile::tempdir().unwrap();
+    let (r, d1, d2) = (0.005, 1e-4, 1.95e-4);
+    let (s, c) = (0.5f64.sqrt(), "0.05,0.05");
+    let rows = format!(
+        "id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wbx,wby,wbz,diameter,length,material\n\
+         7,{},{c},{s},0.0,0.0,{s},0.1,-0.2,0.3,0.0,4.0,-5.0,0.01,0.03,pp\n\
+         9,{},{c},{s},0.0,0.0,{s},0.0,0.0,0.0,1.5,0.0,0.0,0.01,0.03,pp\n",
+        0.1 - r + d1,
+        r - d2
+    );
+    std::fs::write(dir.path().join("two_bodies.csv"), rows).unwrap();
+    let src = dir.path().join("two.toml");
+    std::fs::write(
+        &src,
+        "[simulation]\ndt = 1e-6\nt_end = 1e-5\n\n[box]\nmin = [0.0, 0.0, 0.0]\nmax = [0.1, 0.1, 0.1]\n\
+         young = 5e7\npoisson = 0.35\n\n[material.pp]\ndensity = 1100.0\nyoung = 5e7\npoisson = 0.35\n\n\
+         [guards]\nstart_overlap_ratio = 0.021\n\n[bodies]\nfile = \"two_bodies.csv\"\n",
+    )
+    .unwrap();
+    let out = dir.path().join("big.toml");
+    let report = ok(&fibresim(&[
+        "replicate",
+        src.to_str().unwrap(),
+        "--times",
+        "2,1,1",
+        "-o",
+        out.to_str().unwrap(),
+    ]));
+    assert!(
+        report.contains("touching contacts 3 (the source: 2 each)"),
+        "{report}"
+    );
+    let ratio = (d1 + d2) / (2.0 * r);
+    assert!(
+        report.contains(&format!("largest overlap ratio {ratio:.4}")),
+        "{report}"
+    );
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("start_overlap_ratio = 0.03\n"), "{text}");
+    let a = fibresim::scenario::load(&src).unwrap();
+    let b = fibresim::scenario::load(&out).expect("the replicated bed loads");
+    assert_eq!(b.ids, [0, 1, 2, 3]);
+    let w = b.walls.as_ref().unwrap();
+    assert_eq!((w.min.to_array(), w.max.to_array()), ([0.0; 3], [0.2, 0.1, 0.1]));
+    for (k, t) in b.initial.iter().enumerate() {
+        let o = &a.initial[k % 2];
+        assert_eq!((t.v, t.rot.q, t.rot.omega_b), (o.v, o.rot.q, o.rot.omega_b));
+        let shift = if k < 2 { 0.0 } else { 0.1 };
+        assert_eq!(t.x.to_array(), [o.x.x + shift, o.x.y, o.x.z]);
+        assert_eq!(b.bodies[k], a.bodies[k % 2]);
+    }
+    let bad = fibresim(&["replicate", src.to_str().unwrap(), "--times", "2,0,1", "-o", "x.toml"]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("NX,NY,NZ"));
+}

@@ -59,6 +59,8 @@ pub enum Command {
     Generate(GenerateArgs),
     /// Run a scenario with damping until its kinetic energy per fibre is below a threshold, then write the settled bed (an elastic scenario and its body file).
     Settle(SettleArgs),
+    /// Copy a bed NX x NY x NZ times side by side in a box as many times larger (as LAMMPS's `replicate`), writing a scenario and its body file.
+    Replicate(ReplicateArgs),
     /// Draw fibres as a PNG (a VTK frame or series, a trajectory, a checkpoint or a scenario's start), or a whole run as a GIF.
     Render(RenderArgs),
 }
@@ -131,6 +133,21 @@ pub struct GenerateArgs {
     /// The scenario's end time, s.
     #[arg(long = "t-end", default_value_t = 0.01)]
     pub t_end: f64,
+    /// The scenario to write (the body file goes beside it as <stem>_bodies.csv).
+    #[arg(long, short)]
+    pub out: PathBuf,
+    /// Print nothing on success.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct ReplicateArgs {
+    /// Scenario TOML file of the bed to copy (it must have a [box]).
+    pub scenario: PathBuf,
+    /// Copies along x, y and z, e.g. 3,3,1.
+    #[arg(long, value_name = "NX,NY,NZ")]
+    pub times: String,
     /// The scenario to write (the body file goes beside it as <stem>_bodies.csv).
     #[arg(long, short)]
     pub out: PathBuf,

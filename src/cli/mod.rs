@@ -86,6 +86,30 @@ pub fn execute(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Settle(args) => settle(args.plan()?),
+        Command::Replicate(args) => {
+            let p = args.plan(command_line())?;
+            let r = crate::generate::replicate::replicate(&p.scene, &p.opts)?;
+            if !p.quiet {
+                let [nx, ny, nz] = p.opts.times;
+                println!(
+                    "{} x {} x {} copies of {}: {} fibres in the box {} .. {}; touching contacts {} (the source: {} each), largest overlap ratio {:.4} (guards.start_overlap_ratio = {})\n-> {} (bodies: {})",
+                    nx,
+                    ny,
+                    nz,
+                    p.scene.source,
+                    r.fibres,
+                    r.walls.min,
+                    r.walls.max,
+                    r.touching.1,
+                    r.touching.0,
+                    r.max_overlap_ratio,
+                    r.start_overlap_ratio,
+                    r.scenario.display(),
+                    r.body_file.display()
+                );
+            }
+            Ok(())
+        }
         Command::Render(args) => render(args.plan()?),
         Command::Stress(args) => {
             use crate::study::stress::{print_report, stress};

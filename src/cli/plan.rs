@@ -3,13 +3,15 @@
 //! only execute.
 
 use super::args::{
-    CheckArgs, CompareArgs, ConvergeArgs, GenerateArgs, RenderArgs, RunArgs, SettleArgs, StressArgs,
+    CheckArgs, CompareArgs, ConvergeArgs, GenerateArgs, RenderArgs, ReplicateArgs, RunArgs, SettleArgs,
+    StressArgs,
 };
 use crate::advice::{advise_with, Advice};
 use crate::contact::damping::Restitution;
 use crate::error::{Error, Result};
 use crate::generate::{
     place::Placement,
+    replicate::ReplicateOptions,
     sample::{Orientation, Size},
     GenerateOptions, Velocity,
 };
@@ -519,6 +521,51 @@ pub struct SettlePlan {
     pub write_t_end: f64,
     /// No progress bar, no summary.
     pub quiet: bool,
+}
+
+/// `fibresim replicate`, checked.
+pub struct ReplicatePlan {
+    /// The bed to copy.
+    pub scene: Scene,
+    /// The copies and where to write them.
+    pub opts: ReplicateOptions,
+    /// Print nothing on success.
+    pub quiet: bool,
+}
+
+impl ReplicateArgs {
+    /// Load the bed and check the copy counts.
+    pub fn plan(self, command: String) -> Result<ReplicatePlan> {
+        let bad = || {
+            Error::bad(
+                "command line",
+                "--times",
+                format!(
+                    "`{}` is not three whole numbers >= 1; give NX,NY,NZ, e.g. 3,3,1",
+                    self.times
+                ),
+            )
+        };
+        let times: Vec<usize> = self
+            .times
+            .split(',')
+            .map(|x| x.trim().parse::<usize>())
+            .collect::<std::result::Result<_, _>>()
+            .map_err(|_| bad())?;
+        let times = <[usize; 3]>::try_from(times).map_err(|_| bad())?;
+        if times.contains(&0) {
+            return Err(bad());
+        }
+        Ok(ReplicatePlan {
+            scene: scenario::load(&self.scenario)?,
+            opts: ReplicateOptions {
+                times,
+                out: self.out,
+                command,
+            },
+            quiet: self.quiet,
+        })
+    }
 }
 
 impl SettleArgs {

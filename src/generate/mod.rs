@@ -3,6 +3,7 @@
 //! [`place`]). Same options and seed, same bytes.
 
 pub mod place;
+pub mod replicate;
 pub mod sample;
 
 use crate::body::{Body, BodyState, Material, RotState, Shape};
