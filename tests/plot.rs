@@ -1190,3 +1190,31 @@ fn every_file_plot_help_names_is_plottable() {
     assert_eq!(written, named, "the files written are the files named");
     assert!(plotted >= 9, "{plotted}");
 }
+
+/// A table with a `series` column (the bed scaling figure's) is plotted one
+/// series per value, each named in the legend (without the column, one
+/// series named after the file's folder).
+#[test]
+fn series_column_makes_one_series_each() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("scaling.csv");
+    std::fs::write(
+        &csv,
+        "series,fibres,fibre_steps_per_s\nours 1 thread,1000,3e5\npeer A,10000,1.2e6\n\
+         ours 1 thread,10000,2.9e5\npeer A,100000,1.1e6\n",
+    )
+    .unwrap();
+    let svg = dir.path().join("s.svg");
+    run_ok(&[
+        "plot",
+        csv.to_str().unwrap(),
+        "--x",
+        "fibres",
+        "--column",
+        "fibre_steps_per_s",
+        "-o",
+        svg.to_str().unwrap(),
+    ]);
+    let s = std::fs::read_to_string(&svg).unwrap();
+    assert!(s.contains(">ours 1 thread<") && s.contains(">peer A<"), "{s}");
+}

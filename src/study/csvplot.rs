@@ -316,9 +316,10 @@ pub fn plot_files(opts: &PlotOptions) -> Result<PathBuf> {
             .parent()
             .and_then(|p| p.file_name())
             .map_or_else(|| f.display().to_string(), |n| n.to_string_lossy().into());
-        // Study tables hold many rotators: one series each. Orientation files
-        // hold one row per body: plot body 0.
-        let rot = t.index("rotator");
+        // Study tables hold many rotators: one series each (as does a table
+        // with a `series` column, e.g. docs/figures/bed_scaling.csv).
+        // Orientation files hold one row per body: plot body 0.
+        let rot = t.index("rotator").or_else(|| t.index("series"));
         let body = t.index("body");
         let mut groups: Vec<(String, Vec<f64>, Vec<f64>)> = Vec::new();
         for (i, row) in t.rows.iter().enumerate() {

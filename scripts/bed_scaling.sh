@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# Fibre-steps per second of settled beds from 10^3 to 10^6 fibres, aspect
+# ratios 3 and 10, on 1 and 2 threads (issue 10), and the README's figure.
+#
+#   scripts/bed_scaling.sh OUT_DIR      # ~15 min on an idle 2-core machine
+#
+# The beds: the shipped bed_1k, bed_10k and bed_ar10 (10^3, AR 10), and
+# copies of them side by side made by `fibresim replicate` (10^5 and 10^6
+# fibres from bed_10k; 10^4 to 10^6 from bed_ar10). Each is timed by the bed
+# bench (medians of --repeats runs; its memory counts come with it), with
+# fewer steps for the larger beds so each sample takes seconds. Writes
+# OUT_DIR/bed_scaling.csv (a `series` column: one per aspect ratio and thread
+# count, plus the peers' measurements of issue 10 at 10^4 fibres) and
+# docs/figures/bed_scaling.png from it with `fibresim plot`.
+set -euo pipefail
+out=${1:?give an output folder}
+bin=${FIBRESIM:-target/release/fibresim}
+mkdir -p "$out/beds"
+cargo build --release -q
+rm -f "$out"/raw_*.csv
+
+bed() { # name source times -> path
+  local f="$out/beds/$1.toml"
+  [ -f "$f" ] || "$bin" replicate "scenarios/$2.toml" --times "$3" -o "$f" -q
+  echo "$f"
+}
+
+bench() { # raw-csv scene steps repeats
+  cargo bench -q --bench bed -- "$2" --steps "$3" --repeats "$4" --threads 1,2 --csv "$out/raw_$1.csv"
+}
+
+bench ar3 scenarios/bed_1k.toml 1000 5
+bench ar3 scenarios/bed_10k.toml 100 5
+bench ar3 "$(bed ar3_100k bed_10k 5,2,1)" 10 3
+bench ar3 "$(bed ar3_1m bed_10k 10,10,1)" 2 3
+bench ar10 scenarios/bed_ar10.toml 1000 5
+bench ar10 "$(bed ar10_10k bed_ar10 5,2,1)" 100 5
+bench ar10 "$(bed ar10_100k bed_ar10 10,10,1)" 10 3
+bench ar10 "$(bed ar10_1m bed_ar10 40,25,1)" 2 3
+
+python3 - "$out" <<'EOF'
+import csv, sys
+out = sys.argv[1]
+rows = [("series", "fibres", "threads", "fibre_steps_per_s", "ns_per_fibre_step",
+         "parallel_efficiency", "touching_per_fibre", "heap_bytes_per_fibre")]
+for ar in ("ar3", "ar10"):
+    for r in csv.DictReader(open(f"{out}/raw_{ar}.csv")):
+        t = int(r["threads"])
+        name = f"fibresim AR {ar[2:]}, {t} thread{'s' if t > 1 else ''}"
+        rows.append((name, r["fibres"], t, r["fibre_steps_per_s"], r["ns_per_fibre_step"],
+                     r["parallel_efficiency"], r["touching_per_fibre"], r["heap_bytes_per_fibre"]))
+# Issue 10: the peers on a random settled bed of the AR-3 fibres, this machine.
+for name, t, rate in (("LIGGGHTS 3.8 multisphere", 1, 1.23e6), ("LIGGGHTS 3.8 multisphere", 2, 2.23e6),
+                      ("LAMMPS rigid/small", 1, 1.49e6), ("LAMMPS rigid/small", 2, 2.57e6)):
+    rows.append((f"{name}, {t} process{'es' if t > 1 else ''}", 10000, t, rate, 1e9 / rate, "", "", ""))
+# Issue 10's targets for the 10^4 bed, drawn across the range.
+for t, rate in ((1, 3e6), (2, 5e6)):
+    for n in (1000, 1000000):
+        rows.append((f"target, {t} thread{'s' if t > 1 else ''}", n, t, rate, 1e9 / rate, "", "", ""))
+with open(f"{out}/bed_scaling.csv", "w", newline="") as f:
+    csv.writer(f).writerows(rows)
+EOF
+cp "$out/bed_scaling.csv" docs/figures/bed_scaling.csv
+"$bin" plot docs/figures/bed_scaling.csv --x fibres --column fibre_steps_per_s --log-x --log-y \
+  -o docs/figures/bed_scaling.png
+column -s, -t docs/figures/bed_scaling.csv

@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# Strong and weak scaling over MPI ranks (issue 13), one CSV row per run.
+#
+#   cargo build --release --features mpi
+#   scripts/mpi_scaling.sh OUT_DIR [STEPS_10K] [STEPS_1M] [STEPS_WEAK]
+#
+# Makes the large beds with `fibresim replicate` from the shipped bed_10k
+# (in OUT_DIR/beds), then runs, with the same flags for every run:
+#   strong  bed_10k and a 10^6-fibre bed (10 x 10 copies): one process on
+#           1 and 2 threads, mpirun -np 2 x 1 thread (ranks x threads =
+#           cores), -np 4 x 1 thread (oversubscribed);
+#   weak    10^5 fibres per rank: 5 x 2, 10 x 2, 10 x 4 copies on 1, 2, 4 ranks.
+# Every multi-rank run's energy.csv is compared with the one-process run of
+# the same bed (cmp): the bytes must be those of one process.
+# Columns: case, fibres, ranks, threads, steps, wall_s (the stepping loop,
+# summary.json), fibre_steps_per_s, bytes_per_fibre_step (mean over ranks),
+# force_s_max, comm_s_max, wait_s_max, same_bytes.
+set -euo pipefail
+out=${1:?give an output folder}
+steps_10k=${2:-500}
+steps_1m=${3:-10}
+steps_weak=${4:-40}
+bin=${FIBRESIM:-target/release/fibresim}
+mkdir -p "$out/beds"
+mpi=(mpirun --allow-run-as-root --oversubscribe -x OMPI_MCA_mpi_yield_when_idle=1)
+csv="$out/mpi_scaling.csv"
+echo "case,fibres,ranks,threads,steps,wall_s,fibre_steps_per_s,bytes_per_fibre_step,force_s_max,comm_s_max,wait_s_max,same_bytes" >"$csv"
+
+bed() { # name times -> path of the replicated bed
+  local f="$out/beds/$1.toml"
+  [ -f "$f" ] || "$bin" replicate scenarios/bed_10k.toml --times "$2" -o "$f" -q
+  echo "$f"
+}
+
+row() { # case scene ranks threads steps reference_dir
+  local case=$1 scene=$2 k=$3 t=$4 n=$5 ref=${6:-}
+  local dir="$out/runs/${case}_$(basename "$scene" .toml)_np${k}_t${t}"
+  local t_end
+  t_end=$(python3 -c "print(repr($n * 1e-6))")
+  local cmd=("$bin" run "$scene" --t-end "$t_end" --every "$n" --threads "$t" -q --out "$dir")
+  if [ "$k" -gt 1 ]; then "${mpi[@]}" -np "$k" "${cmd[@]}"; else "${cmd[@]}"; fi
+  local same=na
+  if [ -n "$ref" ]; then cmp -s "$ref/energy.csv" "$dir/energy.csv" && same=yes || same=NO; fi
+  python3 - "$dir/summary.json" "$case" "$k" "$t" "$n" "$same" >>"$csv" <<'EOF'
+import json, sys
+s = json.load(open(sys.argv[1]))
+case, k, t, n, same = sys.argv[2], int(sys.argv[3]), int(sys.argv[4]), int(sys.argv[5]), sys.argv[6]
+bodies = s["bodies"]
+r = s.get("ranks", [])
+mean = lambda key: sum(x[key] for x in r) / len(r) if r else 0.0
+peak = lambda key: max(x[key] for x in r) if r else 0.0
+print(f"{case},{bodies},{k},{t},{n},{s['wall_s']:.3f},{bodies * n / s['wall_s']:.0f},"
+      f"{mean('bytes_per_fibre_step'):.1f},{peak('force_s'):.3f},{peak('comm_s'):.3f},{peak('wait_s'):.3f},{same}")
+EOF
+  echo "$dir"
+}
+
+for scene in scenarios/bed_10k.toml "$(bed bed_1m 10,10,1)"; do
+  n=$steps_10k
+  [[ $scene == *bed_1m* ]] && n=$steps_1m
+  ref=$(row strong "$scene" 1 1 "$n")
+  row strong "$scene" 1 2 "$n" "$ref" >/dev/null
+  row strong "$scene" 2 1 "$n" "$ref" >/dev/null
+  row strong "$scene" 4 1 "$n" "$ref" >/dev/null
+done
+for spec in "1 bed_100k 5,2,1" "2 bed_200k 10,2,1" "4 bed_400k 10,4,1"; do
+  set -- $spec
+  row weak "$(bed "$2" "$3")" "$1" 1 "$steps_weak" >/dev/null
+done
+column -s, -t "$csv"
