@@ -283,7 +283,10 @@ fn replicated_beds_copy_states_and_measure_the_seams() {
     let b = fibresim::scenario::load(&out).expect("the replicated bed loads");
     assert_eq!(b.ids, [0, 1, 2, 3]);
     let w = b.walls.as_ref().unwrap();
-    assert_eq!((w.min.to_array(), w.max.to_array()), ([0.0; 3], [0.2, 0.1, 0.1]));
+    assert_eq!(
+        (w.min.to_array(), w.max.to_array()),
+        ([0.0; 3], [0.2, 0.1, 0.1])
+    );
     for (k, t) in b.initial.iter().enumerate() {
         let o = &a.initial[k % 2];
         assert_eq!((t.v, t.rot.q, t.rot.omega_b), (o.v, o.rot.q, o.rot.omega_b));
@@ -291,7 +294,14 @@ fn replicated_beds_copy_states_and_measure_the_seams() {
         assert_eq!(t.x.to_array(), [o.x.x + shift, o.x.y, o.x.z]);
         assert_eq!(b.bodies[k], a.bodies[k % 2]);
     }
-    let bad = fibresim(&["replicate", src.to_str().unwrap(), "--times", "2,0,1", "-o", "x.toml"]);
+    let bad = fibresim(&[
+        "replicate",
+        src.to_str().unwrap(),
+        "--times",
+        "2,0,1",
+        "-o",
+        "x.toml",
+    ]);
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("NX,NY,NZ"));
 }

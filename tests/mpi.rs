@@ -329,3 +329,58 @@ fn a_guard_stops_every_rank_with_the_one_process_diagnosis() {
         "printed by more than one rank:\n{two_err}"
     );
 }
+
+/// VTK frames under 2 ranks (states gathered to rank 0, contacts counted
+/// afresh from them) are the one-process series byte for byte: every
+/// frame, the `.pvd` collection and the box outline.
+#[test]
+fn vtk_frames_under_two_ranks_are_the_one_process_frames() {
+    let s = scene();
+    let run = |k: usize| {
+        let out = s.root.join(format!("vtk{k}"));
+        let a = [
+            "run",
+            s.path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--t-end",
+            "1e-3",
+            "--vtk-every",
+            "250",
+            "-q",
+        ];
+        ok(&on(k, &a));
+        out
+    };
+    let (one, two) = (run(1), run(2));
+    let files = |dir: &Path| -> Vec<(String, Vec<u8>)> {
+        let mut v: Vec<_> = std::fs::read_dir(dir.join("vtk"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .chain([dir.join("fibres.pvd"), dir.join("box.vtp")])
+            .map(|p| {
+                (
+                    p.file_name().unwrap().to_string_lossy().into_owned(),
+                    std::fs::read(&p).unwrap(),
+                )
+            })
+            .collect();
+        v.sort();
+        v
+    };
+    let (a, b) = (files(&one), files(&two));
+    assert_eq!(
+        a.len(),
+        2 + 5,
+        "frames at steps 0, 250, .., 1000, pvd and box"
+    );
+    // Frames carry each body's live contacts: the scene's must show some.
+    assert!(
+        String::from_utf8_lossy(&a[2].1).contains("contacts"),
+        "frames have a contacts array"
+    );
+    for ((na, ba), (nb, bb)) in a.iter().zip(&b) {
+        assert_eq!(na, nb);
+        assert!(ba == bb, "{na} differs between 1 process and 2 ranks");
+    }
+}

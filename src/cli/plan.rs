@@ -3,8 +3,8 @@
 //! only execute.
 
 use super::args::{
-    CheckArgs, CompareArgs, ConvergeArgs, GenerateArgs, RenderArgs, ReplicateArgs, RunArgs, SettleArgs,
-    StressArgs,
+    CheckArgs, CompareArgs, ConvergeArgs, GenerateArgs, RenderArgs, ReplicateArgs, RunArgs,
+    SettleArgs, StressArgs,
 };
 use crate::advice::{advise_with, Advice};
 use crate::contact::damping::Restitution;

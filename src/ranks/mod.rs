@@ -38,14 +38,6 @@ pub fn launched() -> bool {
 /// What the decomposition does not cover yet, refused with its fix.
 fn refuse(plan: &RunPlan) -> Result<()> {
     let scene = &plan.scene;
-    if scene.output.vtk_every.is_some() {
-        return Err(Error::bad(
-            &scene.source,
-            "vtk_every",
-            "VTK frames are not written under mpirun yet; run without mpirun for frames, \
-             or drop `--vtk-every` / `[output] vtk_every`",
-        ));
-    }
     if scene.damping.is_some() {
         return Err(Error::bad(
             &scene.source,

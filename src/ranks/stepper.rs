@@ -544,4 +544,8 @@ impl<'s> Stepper<'s> for RankStep<'_> {
     fn sync(&mut self, w: &mut World<'s>) {
         self.gather_states(w, false);
     }
+
+    fn whole_contact_stage(&self) -> bool {
+        self.comm.size == 1
+    }
 }

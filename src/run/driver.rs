@@ -84,6 +84,11 @@ pub trait Stepper<'s> {
     /// Before observers look at `w` (an event, a checkpoint, the end):
     /// every state in place where the observers run.
     fn sync(&mut self, _w: &mut World<'s>) {}
+    /// Whether the world's contact stage holds every candidate pair of the
+    /// scene (an MPI rank of several holds only its fibres' and ghosts').
+    fn whole_contact_stage(&self) -> bool {
+        true
+    }
 }
 
 impl<'s, T: Stepper<'s>> Stepper<'s> for &mut T {
@@ -95,6 +100,9 @@ impl<'s, T: Stepper<'s>> Stepper<'s> for &mut T {
     }
     fn sync(&mut self, w: &mut World<'s>) {
         (**self).sync(w)
+    }
+    fn whole_contact_stage(&self) -> bool {
+        (**self).whole_contact_stage()
     }
 }
 

@@ -105,7 +105,10 @@ pub(crate) fn run_by<'s, S: driver::Stepper<'s>>(
         .output
         .trajectory_every
         .map(|n| TrajectoryCsv::new(dir, n));
-    let mut vtk = scene.output.vtk_every.map(|n| VtkSeries::new(dir, n));
+    let mut vtk = scene
+        .output
+        .vtk_every
+        .map(|n| VtkSeries::new(dir, n).recounting(!stepper.whole_contact_stage()));
     let mut progress = progress;
     let mut summary = SummaryJson::new(dir, every).with_settle(opts.settle);
     let checkpoint_path = dir.join(CHECKPOINT_FILE);

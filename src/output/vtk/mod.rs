@@ -40,6 +40,10 @@ pub struct VtkSeries {
     pvd: Pvd,
     /// Files written so far (relative name, length), for checkpoints.
     written: Vec<(String, u64)>,
+    /// Count each frame's contacts from its states with a stage of its own,
+    /// because the world's stage does not hold every candidate (an MPI
+    /// rank's holds its own fibres' and its ghosts').
+    recount: bool,
 }
 
 impl VtkSeries {
@@ -50,7 +54,13 @@ impl VtkSeries {
             every,
             pvd: Pvd::at(dir.join(PVD_FILE)),
             written: vec![],
+            recount: false,
         }
+    }
+
+    /// Count the frames' contacts afresh from their states (see `recount`).
+    pub fn recounting(self, recount: bool) -> Self {
+        VtkSeries { recount, ..self }
     }
 
     fn write(&mut self, name: String, bytes: &[u8]) -> Result<()> {
@@ -82,7 +92,10 @@ impl Observer for VtkSeries {
 
     fn row(&mut self, v: &View) -> Result<()> {
         let w = v.world;
-        let counts = super::contact_count::contacts_of_world(w);
+        let counts = match self.recount {
+            true => super::contact_count::contacts_at(w.scene, &w.states),
+            false => super::contact_count::contacts_of_world(w),
+        };
         let name = frame_name(w.step);
         self.write(name.clone(), &frame::frame_bytes(w, &counts))?;
         self.pvd.push(w.time(), &name)
