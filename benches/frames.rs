@@ -5,7 +5,8 @@
 //! lattices of non-touching fibres of test case 1's size in a box, with
 //! pseudo-random orientations and motions (incompressible-looking data: the
 //! bytes per fibre are an upper estimate). Prints the bytes per fibre.
-//! Run: `cargo bench --bench frames` (about 3 min).
+//! Then a checkpoint's write at 10⁵ and 10⁶ fibres (group `checkpoint`).
+//! Run: `cargo bench --bench frames` (about 4 min), or `-- checkpoint`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use fibresim::integrate::rotate::Pcdm;
@@ -120,5 +121,32 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+/// A checkpoint of 10⁵ and 10⁶ fibres (issue 10, item 8: ≤ 5 s to write at
+/// 10⁶): the driver's copy of the states, the states file (encoded, hashed,
+/// written, renamed) and the JSON.
+fn checkpoint(c: &mut Criterion) {
+    use fibresim::output::Checkpoint;
+    let mut g = c.benchmark_group("checkpoint");
+    g.sample_size(10).measurement_time(Duration::from_secs(10));
+    for n in [100_000usize, 1_000_000] {
+        let scene = lattice(n);
+        let world = World::new(&scene);
+        let stats = RunStats::new(&world.ledger);
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("checkpoint.json");
+        Checkpoint::of::<Pcdm>(&world, &stats).write(&path).unwrap();
+        let bytes = std::fs::metadata(path.with_extension("states")).unwrap().len()
+            + std::fs::metadata(&path).unwrap().len();
+        println!(
+            "{n} fibres: a checkpoint is {bytes} bytes, {:.1} bytes per fibre",
+            bytes as f64 / n as f64
+        );
+        g.bench_with_input(BenchmarkId::new("write", n), &n, |b, _| {
+            b.iter(|| Checkpoint::of::<Pcdm>(&world, &stats).write(&path).unwrap())
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench, checkpoint);
 criterion_main!(benches);
