@@ -305,3 +305,14 @@ fn replicated_beds_copy_states_and_measure_the_seams() {
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("NX,NY,NZ"));
 }
+
+/// `generate` writes the end time as given: 150 000 steps of 2e-5 s are
+/// 3.0000000000000004 s in floating point, the user asked for 3.
+#[test]
+fn generate_writes_the_end_time_as_given() {
+    let dir = tempfile::tempdir().unwrap();
+    let (toml, _) = generate(dir.path(), "t", &["--dt", "2e-5", "--t-end", "3"]);
+    let text = std::fs::read_to_string(&toml).unwrap();
+    assert!(text.contains("\nt_end = 3.0\n"), "{text}");
+    assert!((150_000.0 * 2e-5f64) != 3.0, "the case this test is for");
+}

@@ -497,7 +497,8 @@ impl GenerateArgs {
             spin: self.spin,
             seed: self.seed,
             dt: sim.dt(),
-            t_end: sim.t_end(),
+            // As given (checked by `sim`): steps·δt can print as 3.0000000000000004.
+            t_end: self.t_end,
             restitution: (e < 1.0).then_some(Restitution { fibre: e, wall: e }),
             out: self.out,
             command,
