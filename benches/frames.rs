@@ -135,7 +135,9 @@ fn checkpoint(c: &mut Criterion) {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("checkpoint.json");
         Checkpoint::of::<Pcdm>(&world, &stats).write(&path).unwrap();
-        let bytes = std::fs::metadata(path.with_extension("states")).unwrap().len()
+        let bytes = std::fs::metadata(path.with_extension("states"))
+            .unwrap()
+            .len()
             + std::fs::metadata(&path).unwrap().len();
         println!(
             "{n} fibres: a checkpoint is {bytes} bytes, {:.1} bytes per fibre",
