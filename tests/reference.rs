@@ -65,10 +65,7 @@ fn closed_form_against_rk4(scene: &Scene, dt: f64) -> (f64, f64) {
     };
     for ((t, q, w), (_, q2, _)) in fine.iter().zip(&coarse) {
         rk4_err = rk4_err.max(geodesic_angle(*q, *q2) / 15.0);
-        worst_q = worst_q.max(geodesic_angle(
-            reference.orientation(*t, DQuat::IDENTITY),
-            *q,
-        ));
+        worst_q = worst_q.max(geodesic_angle(reference.orientation(*t), *q));
         worst_w = worst_w.max((omega(*t) - *w).length() / w.length());
     }
     assert!(rk4_err < 1e-13, "the rk4 check is not tight: {rk4_err:e}");

@@ -17,7 +17,7 @@ fn test_case_3_against_closed_form() {
         .reference
         .clone()
         .expect("tc3 declares its closed form");
-    let q_ref = closed.orientation(1.0, DQuat::IDENTITY);
+    let q_ref = closed.orientation(1.0);
     let x_ref = q_ref * DVec3::X;
     // Closed form, independently: I = 2/5 m r², m = ρ 4/3 π r³, r = 1.
     let inertia = 0.4 * 1100.0 * 4.0 / 3.0 * std::f64::consts::PI;

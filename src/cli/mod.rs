@@ -151,7 +151,7 @@ fn print(text: &dyn std::fmt::Display) -> Result<()> {
 }
 
 /// `fibresim run`: warnings, the resumed outputs, the run, and its summary.
-fn run(plan: plan::RunPlan) -> Result<()> {
+fn run(mut plan: plan::RunPlan) -> Result<()> {
     #[cfg(feature = "mpi")]
     if crate::ranks::launched() {
         return crate::ranks::run(plan);
@@ -167,8 +167,11 @@ fn run(plan: plan::RunPlan) -> Result<()> {
     let _ = ctrlc::set_handler(|| {
         crate::run::INTERRUPTED.store(true, std::sync::atomic::Ordering::Relaxed)
     });
+    // The world takes the step-0 states; the scene keeps no copy.
+    let initial = std::mem::take(&mut plan.scene.initial);
     let scene = &plan.scene;
-    let outcome = crate::run::run_from(scene, &plan.opts, plan.resume.as_ref().map(|r| &r.0));
+    let resume = plan.resume.as_ref().map(|r| &r.0);
+    let outcome = crate::run::run_from(scene, initial, &plan.opts, resume);
     print_outcome(scene, &outcome, out_dir, plan.quiet);
     outcome.map(|_| ())
 }
@@ -224,15 +227,16 @@ fn command_line() -> String {
 
 /// `fibresim settle`: run with damping until the bed is still, then write
 /// the settled bed as an elastic scenario and its body file.
-fn settle(plan: plan::SettlePlan) -> Result<()> {
+fn settle(mut plan: plan::SettlePlan) -> Result<()> {
     for w in &plan.advice.warnings {
         eprintln!("warning: {w}");
     }
     let _ = ctrlc::set_handler(|| {
         crate::run::INTERRUPTED.store(true, std::sync::atomic::Ordering::Relaxed)
     });
+    let initial = std::mem::take(&mut plan.scene.initial);
     let scene = &plan.scene;
-    let s = crate::run::run(scene, &plan.opts)?;
+    let s = crate::run::run_from(scene, initial, &plan.opts, None)?;
     let settle = plan.opts.settle.expect("a settle plan has a settle test");
     let body_file = crate::generate::body_file_of(&plan.write);
     let n = scene.bodies.len() as f64;

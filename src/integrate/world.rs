@@ -54,12 +54,21 @@ pub struct StageTimes {
 }
 
 impl<'s> World<'s> {
-    /// The scene at step 0, with its forces and ledger computed.
+    /// The scene at step 0 (a copy of `scene.initial`: the scene can be run
+    /// again), with its forces and ledger computed.
     pub fn new(scene: &'s Scene) -> Self {
+        Self::from_states(scene, scene.initial.clone())
+    }
+
+    /// [`World::new`] from the step-0 states `states`, moved in: `fibresim
+    /// run` takes them out of its scene rather than keep two copies
+    /// (104 B per body).
+    pub fn from_states(scene: &'s Scene, states: Vec<BodyState>) -> Self {
         let n = scene.bodies.len();
+        assert_eq!(states.len(), n, "one step-0 state per body");
         let mut w = World {
             scene,
-            states: scene.initial.clone(),
+            states,
             aux: vec![],
             force: vec![DVec3::ZERO; n],
             torque: vec![DVec3::ZERO; n],

@@ -49,10 +49,7 @@ impl Observer for OrientationCsv {
         let w = v.world;
         let scene = w.scene;
         let (step, t) = (w.step, w.time());
-        let reference = scene
-            .reference
-            .as_ref()
-            .map(|r| r.orientation(t, scene.initial[0].rot.q));
+        let reference = scene.reference.as_ref().map(|r| r.orientation(t));
         let with_reference = self.with_reference;
         let file = &mut self.file;
         let path = &file.path;

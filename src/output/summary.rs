@@ -97,7 +97,7 @@ impl Summary {
         let sim = &scene.sim;
         let (ref_err, ref_x_err) = match scene.reference.as_ref() {
             Some(r) if end.stopped.is_none() => {
-                let q_ref = r.orientation(world.time(), scene.initial[0].rot.q);
+                let q_ref = r.orientation(world.time());
                 let q = world.states[0].rot.q;
                 let ax = (q * glam::DVec3::X).x;
                 let rx = (q_ref * glam::DVec3::X).x;

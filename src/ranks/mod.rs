@@ -52,13 +52,15 @@ fn refuse(plan: &RunPlan) -> Result<()> {
 /// line; rank 0 writes and prints. A stop (a guard, Ctrl-C) ends every
 /// rank with the same diagnosis and exit code; an error of rank 0 alone
 /// (an output it cannot write) aborts the job with its exit code.
-pub fn run(plan: RunPlan) -> Result<()> {
+pub fn run(mut plan: RunPlan) -> Result<()> {
     let Some((universe, _)) = mpi::initialize_with_threading(mpi::Threading::Funneled) else {
         return Err(Error::bad("mpirun", "MPI", "MPI could not be initialised"));
     };
     let world = universe.world();
     let root = world.rank() == 0;
-    let result = run_ranked(&plan, &world, root);
+    // The world takes the step-0 states; the scene keeps no copy.
+    let initial = std::mem::take(&mut plan.scene.initial);
+    let result = run_ranked(&plan, initial, &world, root);
     match &result {
         Err(e)
             if root
@@ -79,7 +81,12 @@ pub fn run(plan: RunPlan) -> Result<()> {
     }
 }
 
-fn run_ranked(plan: &RunPlan, world: &mpi::topology::SimpleCommunicator, root: bool) -> Result<()> {
+fn run_ranked(
+    plan: &RunPlan,
+    initial: Vec<crate::body::BodyState>,
+    world: &mpi::topology::SimpleCommunicator,
+    root: bool,
+) -> Result<()> {
     refuse(plan)?;
     let out_dir = &plan.opts.out_dir;
     if root {
@@ -100,6 +107,7 @@ fn run_ranked(plan: &RunPlan, world: &mpi::topology::SimpleCommunicator, root: b
     let mut stepper = RankStep::new(Comm::new(world));
     let outcome = crate::run::run_by(
         scene,
+        initial,
         &plan.opts,
         plan.resume.as_ref().map(|r| &r.0),
         progress,

@@ -5,6 +5,7 @@
 
 use super::observer::{Observer, RunEnd, View};
 use super::stats::RunStats;
+use crate::body::BodyState;
 use crate::error::{Error, Result};
 use crate::integrate::rotate::{AuxState, Rotator, RotatorVisitor};
 use crate::integrate::step::World;
@@ -71,13 +72,15 @@ pub fn drive<'s>(
     control: &Control,
     resume: Option<&Checkpoint>,
 ) -> Result<Finished<'s>> {
-    drive_by(scene, observers, control, resume, OneProcess)
+    let initial = scene.initial.clone();
+    drive_by(scene, initial, observers, control, resume, OneProcess)
 }
 
 /// How the driver takes a step and makes the world whole for its observers:
 /// [`OneProcess`] here; an MPI rank's decomposed step in `src/ranks/`.
 pub trait Stepper<'s> {
-    /// Before the first step (after `World::new` or a resume's restore).
+    /// Before the first step (after `World::from_states` or a resume's
+    /// restore).
     fn start(&mut self, _w: &mut World<'s>) {}
     /// One step of `w` with rotator `R`.
     fn step<R: Rotator>(&mut self, w: &mut World<'s>) -> std::result::Result<(), Box<Diagnosis>>;
@@ -115,9 +118,12 @@ impl<'s> Stepper<'s> for OneProcess {
     }
 }
 
-/// [`drive`] with the steps taken by `stepper`.
+/// [`drive`] from the step-0 states `initial` (moved into the world; a
+/// resumed run starts there too, then restores the checkpoint's), with the
+/// steps taken by `stepper`.
 pub fn drive_by<'s, S: Stepper<'s>>(
     scene: &'s Scene,
+    initial: Vec<BodyState>,
     observers: &mut [&mut dyn Observer],
     control: &Control,
     resume: Option<&Checkpoint>,
@@ -125,6 +131,7 @@ pub fn drive_by<'s, S: Stepper<'s>>(
 ) -> Result<Finished<'s>> {
     struct Drive<'a, 's, 'o, S> {
         scene: &'s Scene,
+        initial: Vec<BodyState>,
         observers: &'a mut [&'o mut dyn Observer],
         control: &'a Control,
         resume: Option<&'a Checkpoint>,
@@ -135,6 +142,7 @@ pub fn drive_by<'s, S: Stepper<'s>>(
         fn visit<R: Rotator>(self) -> Self::Output {
             drive_with::<R, S>(
                 self.scene,
+                self.initial,
                 self.observers,
                 self.control,
                 self.resume,
@@ -156,6 +164,7 @@ pub fn drive_by<'s, S: Stepper<'s>>(
     }
     scene.sim.rotator().visit(Drive {
         scene,
+        initial,
         observers,
         control,
         resume,
@@ -170,13 +179,15 @@ fn next_multiple(step: u64, n: u64) -> u64 {
 
 fn drive_with<'s, R: Rotator, S: Stepper<'s>>(
     scene: &'s Scene,
+    initial: Vec<BodyState>,
     observers: &mut [&mut dyn Observer],
     control: &Control,
     resume: Option<&Checkpoint>,
     mut stepper: S,
 ) -> Result<Finished<'s>> {
     let steps = scene.sim.steps();
-    let mut world = World::new(scene);
+    // A resumed world is measured at step 0 first: its energy guard's E₀.
+    let mut world = World::from_states(scene, initial);
     let mut stats = RunStats::new(&world.ledger);
     // An output that cannot be opened when the run starts is bad input
     // naming `--out` (exit 2); the same failure mid-run stays an I/O error.

@@ -10,6 +10,7 @@ pub use driver::{drive, Control, Finished, Settle};
 pub use observer::{EachStep, Observer, RunEnd, View};
 pub use resume::{copy_resume_outputs, scene_from_checkpoint};
 
+use crate::body::BodyState;
 use crate::error::{Diagnosis, Result};
 use crate::integrate::rotate::RotatorKind;
 use crate::integrate::step::World;
@@ -47,16 +48,24 @@ pub struct RunOptions {
 /// (`trajectory.csv`, the VTK series) into `opts.out_dir`. A run stopped by a
 /// guard returns `Err(Error::Unstable)` after writing its outputs.
 pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
-    run_from(scene, opts, None)
+    run_from(scene, scene.initial.clone(), opts, None)
 }
 
-/// Continue a run from a checkpoint (`scene` rebuilt with [`scene_from_checkpoint`]).
-pub fn run_from(scene: &Scene, opts: &RunOptions, resume: Option<&Checkpoint>) -> Result<Summary> {
+/// [`run`] from the step-0 states `initial`, moved into the world
+/// (`fibresim run` takes them out of its scene: a bed keeps one copy), or
+/// continued from a checkpoint (`scene` rebuilt with
+/// [`scene_from_checkpoint`]; `initial` is still its step 0).
+pub fn run_from(
+    scene: &Scene,
+    initial: Vec<BodyState>,
+    opts: &RunOptions,
+    resume: Option<&Checkpoint>,
+) -> Result<Summary> {
     let bar = opts
         .progress
         .then(|| Progress::terminal(scene.sim.steps()))
         .flatten();
-    run_observed(scene, opts, resume, bar)
+    run_observed(scene, initial, opts, resume, bar)
 }
 
 /// [`run`] drawing its progress on `bar` (e.g. one line of a study's
@@ -67,17 +76,26 @@ pub fn run_with_bar(
     bar: Option<indicatif::ProgressBar>,
 ) -> Result<Summary> {
     let bar = bar.map(|b| Progress::on(b, scene.sim.steps()));
-    run_observed(scene, opts, None, bar)
+    run_observed(scene, scene.initial.clone(), opts, None, bar)
 }
 
 fn run_observed(
     scene: &Scene,
+    initial: Vec<BodyState>,
     opts: &RunOptions,
     resume: Option<&Checkpoint>,
     progress: Option<Progress>,
 ) -> Result<Summary> {
-    run_by(scene, opts, resume, progress, driver::OneProcess, true)
-        .map(|s| s.expect("the writing process has a summary"))
+    run_by(
+        scene,
+        initial,
+        opts,
+        resume,
+        progress,
+        driver::OneProcess,
+        true,
+    )
+    .map(|s| s.expect("the writing process has a summary"))
 }
 
 /// [`run_observed`] with the steps taken by `stepper`; only the `writer`
@@ -85,6 +103,7 @@ fn run_observed(
 /// silent observers, and gets no summary).
 pub(crate) fn run_by<'s, S: driver::Stepper<'s>>(
     scene: &'s Scene,
+    initial: Vec<BodyState>,
     opts: &RunOptions,
     resume: Option<&Checkpoint>,
     progress: Option<Progress>,
@@ -142,7 +161,7 @@ pub(crate) fn run_by<'s, S: driver::Stepper<'s>>(
         interrupt: Some((&INTERRUPTED, checkpoint_path)),
         settle: opts.settle,
     };
-    let finished = driver::drive_by(scene, observers, &control, resume, stepper)?;
+    let finished = driver::drive_by(scene, initial, observers, &control, resume, stepper)?;
     if !writer {
         driver::outcome(finished.stopped)?;
         return Ok(None);
@@ -186,7 +205,7 @@ pub fn integrate(
     scene: &Scene,
     kind: RotatorKind,
     dt: f64,
-) -> std::result::Result<Vec<crate::body::BodyState>, Diagnosis> {
+) -> std::result::Result<Vec<BodyState>, Diagnosis> {
     let mut s = scene.clone();
     let steps = (scene.sim.t_end() / dt).round() as u64;
     s.sim = SimParams::with_steps(dt, steps.max(1), kind, None)

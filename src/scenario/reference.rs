@@ -18,6 +18,8 @@ const KNOWN: &str = "exp-torque-sphere, torque-free, manufactured";
 pub enum ClosedForm {
     /// Sphere of inertia `i` at rest under `τ = A e^{Ct} â`.
     ExpTorqueSphere {
+        /// The sphere's start orientation `q₀`.
+        q0: DQuat,
         /// Unit direction `â` of the torque (world).
         axis: DVec3,
         /// `A`, N·m.
@@ -34,18 +36,19 @@ pub enum ClosedForm {
 }
 
 impl ClosedForm {
-    /// Reference orientation of body 0 at time `t`; `q0` is its start
-    /// (the torque-free and manufactured forms carry theirs).
-    pub fn orientation(&self, t: f64, q0: DQuat) -> DQuat {
+    /// Reference orientation of body 0 at time `t` (each form carries body
+    /// 0's start: a run need not keep the scene's step-0 states).
+    pub fn orientation(&self, t: f64) -> DQuat {
         match self {
             ClosedForm::ExpTorqueSphere {
+                q0,
                 axis,
                 a,
                 c,
                 inertia,
             } => {
                 let theta = a * ((c * t).exp() - 1.0 - c * t) / (inertia * c * c);
-                DQuat::from_axis_angle(*axis, theta) * q0
+                DQuat::from_axis_angle(*axis, theta) * *q0
             }
             ClosedForm::TorqueFree(f) => f.orientation(t),
             ClosedForm::Manufactured(m) => m.orientation(t),
@@ -253,6 +256,7 @@ fn exp_torque_sphere(
         }
     }
     Ok(ClosedForm::ExpTorqueSphere {
+        q0: initial[0].rot.q,
         axis,
         a,
         c,

@@ -48,7 +48,9 @@ pub struct Scene {
     pub names: Vec<String>,
     /// The material table (`Body::material` indexes it).
     pub materials: Vec<Material>,
-    /// Each body's state at step 0, by storage index.
+    /// Each body's state at step 0, by storage index. `fibresim run` moves
+    /// them into its world ([`crate::run::run_from`]), leaving this empty:
+    /// the advice reads them before, the closed form carries its `q₀`.
     pub initial: Vec<BodyState>,
     /// Prescribed torques, sparse, in storage order of their bodies.
     pub torques: Vec<Prescribed>,

@@ -123,10 +123,7 @@ pub fn long_run(scene: &Scene, kind: RotatorKind, dt: f64, steps: u64, every: u6
     let t_end = f.world.time();
     let (drift_per_s, trend) = classify(&pts, t_end);
     let orientation_final = scene.reference.as_ref().map_or(f64::NAN, |r| {
-        geodesic_angle(
-            f.world.states[0].rot.q,
-            r.orientation(t_end, scene.initial[0].rot.q),
-        )
+        geodesic_angle(f.world.states[0].rot.q, r.orientation(t_end))
     });
     LongRun {
         kind,

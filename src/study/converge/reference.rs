@@ -64,7 +64,7 @@ pub struct ReferenceInfo {
 
 /// The reference orientation at fine-grid multiples of `stride`.
 pub(super) enum Reference {
-    Closed(ClosedForm, DQuat),
+    Closed(ClosedForm),
     /// `q[k * bodies + i]` at step `k * stride` of the fine grid.
     Sampled {
         q: Vec<DQuat>,
@@ -86,9 +86,7 @@ impl Reference {
         let kind = ReferenceKind::of(scene, mode);
         let (reference, own_error) = match (kind, &scene.reference) {
             (ReferenceKind::Rk4, _) => return rk4(scene, grid, t_end, progress),
-            (ReferenceKind::ClosedForm, Some(c)) => {
-                (Reference::Closed(c.clone(), scene.initial[0].rot.q), 0.0)
-            }
+            (ReferenceKind::ClosedForm, Some(c)) => (Reference::Closed(c.clone()), 0.0),
             _ => (Reference::None, f64::NAN),
         };
         let info = ReferenceInfo {
@@ -106,7 +104,7 @@ impl Reference {
     /// grid (a multiple of the stride), time `t`.
     pub(super) fn at(&self, fine_step: u64, t: f64, body: usize) -> Option<DQuat> {
         match self {
-            Reference::Closed(c, q0) => (body == 0).then(|| c.orientation(t, *q0)),
+            Reference::Closed(c) => (body == 0).then(|| c.orientation(t)),
             Reference::Sampled { q, stride, bodies } => {
                 debug_assert_eq!(fine_step % stride, 0);
                 Some(q[(fine_step / stride) as usize * bodies + body])
