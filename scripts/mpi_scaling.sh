@@ -14,17 +14,18 @@
 # the same bed (cmp): the bytes must be those of one process.
 # Columns: case, fibres, ranks, threads, steps, wall_s (the stepping loop,
 # summary.json), fibre_steps_per_s, bytes_per_fibre_step (mean over ranks),
-# force_s_max, comm_s_max, wait_s_max, same_bytes.
+# force_s_max, comm_s_max, wait_s_max, peak_rss_mb (the largest of the
+# ranks' peak resident sets, loading included), same_bytes.
 set -euo pipefail
 out=${1:?give an output folder}
 steps_10k=${2:-500}
 steps_1m=${3:-10}
 steps_weak=${4:-40}
 bin=${FIBRESIM:-target/release/fibresim}
-mkdir -p "$out/beds"
+mkdir -p "$out/beds" "$out/runs"
 mpi=(mpirun --allow-run-as-root --oversubscribe -x OMPI_MCA_mpi_yield_when_idle=1)
 csv="$out/mpi_scaling.csv"
-echo "case,fibres,ranks,threads,steps,wall_s,fibre_steps_per_s,bytes_per_fibre_step,force_s_max,comm_s_max,wait_s_max,same_bytes" >"$csv"
+echo "case,fibres,ranks,threads,steps,wall_s,fibre_steps_per_s,bytes_per_fibre_step,force_s_max,comm_s_max,wait_s_max,peak_rss_mb,same_bytes" >"$csv"
 
 bed() { # name times -> path of the replicated bed
   local f="$out/beds/$1.toml"
@@ -37,11 +38,12 @@ row() { # case scene ranks threads steps reference_dir
   local dir="$out/runs/${case}_$(basename "$scene" .toml)_np${k}_t${t}"
   local t_end
   t_end=$(python3 -c "print(repr($n * 1e-6))")
-  local cmd=("$bin" run "$scene" --t-end "$t_end" --every "$n" --threads "$t" -q --out "$dir")
+  rm -f "$dir.rss"
+  local cmd=(/usr/bin/time -a -o "$dir.rss" -f %M "$bin" run "$scene" --t-end "$t_end" --every "$n" --threads "$t" -q --out "$dir")
   if [ "$k" -gt 1 ]; then "${mpi[@]}" -np "$k" "${cmd[@]}"; else "${cmd[@]}"; fi
   local same=na
   if [ -n "$ref" ]; then cmp -s "$ref/energy.csv" "$dir/energy.csv" && same=yes || same=NO; fi
-  python3 - "$dir/summary.json" "$case" "$k" "$t" "$n" "$same" >>"$csv" <<'EOF'
+  python3 - "$dir/summary.json" "$case" "$k" "$t" "$n" "$same" "$dir.rss" >>"$csv" <<'EOF'
 import json, sys
 s = json.load(open(sys.argv[1]))
 case, k, t, n, same = sys.argv[2], int(sys.argv[3]), int(sys.argv[4]), int(sys.argv[5]), sys.argv[6]
@@ -49,8 +51,9 @@ bodies = s["bodies"]
 r = s.get("ranks", [])
 mean = lambda key: sum(x[key] for x in r) / len(r) if r else 0.0
 peak = lambda key: max(x[key] for x in r) if r else 0.0
+rss = max(int(l) for l in open(sys.argv[7]) if l.strip().isdigit()) / 1024
 print(f"{case},{bodies},{k},{t},{n},{s['wall_s']:.3f},{bodies * n / s['wall_s']:.0f},"
-      f"{mean('bytes_per_fibre_step'):.1f},{peak('force_s'):.3f},{peak('comm_s'):.3f},{peak('wait_s'):.3f},{same}")
+      f"{mean('bytes_per_fibre_step'):.1f},{peak('force_s'):.3f},{peak('comm_s'):.3f},{peak('wait_s'):.3f},{rss:.0f},{same}")
 EOF
   echo "$dir"
 }
@@ -67,4 +70,25 @@ for spec in "1 bed_100k 5,2,1" "2 bed_200k 10,2,1" "4 bed_400k 10,4,1"; do
   set -- $spec
   row weak "$(bed "$2" "$3")" "$1" 1 "$steps_weak" >/dev/null
 done
+# The README's figure: fibre-steps/s against ranks (1 thread each), one
+# series per bed, and one process on 2 threads for comparison.
+python3 - "$csv" <<'EOF'
+import csv, sys
+rows = [("series", "ranks", "fibre_steps_per_s", "wall_s", "bytes_per_fibre_step", "peak_rss_mb")]
+for r in csv.DictReader(open(sys.argv[1])):
+    n = int(r["fibres"])
+    bed = {10000: "10^4 fibres (bed_10k)", 1000000: "10^6 fibres"}.get(n, "")
+    if r["case"] == "weak":
+        name = "weak: 10^5 fibres per rank"
+    elif r["threads"] == "2":
+        name = f"{bed}, one process on 2 threads"
+    else:
+        name = f"{bed}, ranks x 1 thread"
+    rows.append((name, r["ranks"] if r["threads"] == "1" else "2", r["fibre_steps_per_s"],
+                 r["wall_s"], r["bytes_per_fibre_step"], r["peak_rss_mb"]))
+with open("docs/figures/mpi_scaling.csv", "w", newline="") as f:
+    csv.writer(f).writerows(rows)
+EOF
+"$bin" plot docs/figures/mpi_scaling.csv --x ranks --column fibre_steps_per_s --log-y \
+  -o docs/figures/mpi_scaling.png
 column -s, -t "$csv"
