@@ -137,7 +137,9 @@ impl<'g> Scan<'g> {
                 scan.feature(rim_face(a, sa, b, sb), false);
                 scan.feature(rim_face(b, sb, a, sa), true);
                 let hints = [rim_a[i], rim_b[j]];
-                scan.feature(rim_rim(a, sa, b, sb, hints, scan.reach), false);
+                // (The best value may have dropped in this loop.)
+                let reach = scan.reach.min(scan.best.max(0.0) + END_TIE_BAND);
+                scan.feature(rim_rim(a, sa, b, sb, hints, reach), false);
             }
         }
         scan
