@@ -25,9 +25,12 @@ use glam::DVec3;
 /// cheap axis first).
 const CERTIFY_TOL: f64 = 1e-12;
 
-/// Room for every local minimum of one scan: 4 end-pair kernels for each of
-/// the 4 end pairs, 2 end kernels for each of the 4 ends.
-const MAX_MINIMA: usize = 24;
+/// Room for the local minima of one scan that can tie with its best value
+/// (within [`END_TIE_BAND`] of the best so far; the others cannot be the
+/// runner-up of a blend). A scan has at most 24 (4 end-pair kernels for
+/// each of the 4 end pairs, 2 end kernels for each of the 4 ends); when
+/// more than this many are near, the highest gives way.
+const MAX_MINIMA: usize = 8;
 
 /// What a scan concluded.
 enum Verdict {
@@ -65,8 +68,16 @@ impl<'g> Scan<'g> {
     /// The scan of `a` and `b`; with `stop_at_separation` it returns as
     /// soon as a direction separates them (the contact kernel does not
     /// need the separation distance, the side–side escape does).
-    fn run(a: &'g FibreGeom, b: &'g FibreGeom, stop_at_separation: bool) -> Self {
-        let (s, t) = segment_closest_params(a, b);
+    /// `(s, t)` are the axis segments' closest-point parameters
+    /// ([`segment_closest_params`]). Inlined: the scan is returned by
+    /// value, which otherwise costs a copy of it.
+    #[inline(always)]
+    fn run(
+        a: &'g FibreGeom,
+        b: &'g FibreGeom,
+        (s, t): (f64, f64),
+        stop_at_separation: bool,
+    ) -> Self {
         let cp = a.centre + s * a.axis - b.centre - t * b.axis;
         let bound = a.radius + b.radius - cp.length();
         let (sag_a, sag_b) = (dome_sag(a.radius), dome_sag(b.radius));
@@ -181,9 +192,15 @@ impl<'g> Scan<'g> {
             // reached first: the kernel's direction is the minimiser.
             (self.best, self.best_n, self.certified) = (v.min(self.best), n, true);
         }
-        if st.local_min && self.count < MAX_MINIMA {
-            self.minima[self.count] = (v, n);
-            self.count += 1;
+        if st.local_min && v < self.best + END_TIE_BAND {
+            if self.count < MAX_MINIMA {
+                self.minima[self.count] = (v, n);
+                self.count += 1;
+            } else if let Some(m) = self.minima.iter_mut().max_by(|x, y| x.0.total_cmp(&y.0)) {
+                if v < m.0 {
+                    *m = (v, n);
+                }
+            }
         }
         Some(st.point)
     }
@@ -228,7 +245,7 @@ pub(super) fn penetration(
     counters: &mut KernelCounters,
 ) -> Cand {
     counters.end_scans += 1;
-    let scan = Scan::run(a, b, false);
+    let scan = Scan::run(a, b, segment_closest_params(a, b), false);
     match scan.verdict() {
         Verdict::Touching => contact_along(a, b, scan.best_n, scan.best),
         Verdict::Separated => {
@@ -257,19 +274,20 @@ pub(super) fn penetration(
 /// 1, so they carry no `ContactPoint::weight_grad` of their own (the
 /// caller's `weight` and `weight_grad` multiply them). C², not C¹: leap-frog's
 /// energy error follows the curvature of the potential (docs/contacts.md,
-/// "Ties"). When the scan is unsure, parry (checked) seeds the iterative
-/// search instead (seeded also by the closest-point normal), counted in
-/// `counters.fallbacks`.
+/// "Ties"). `st` are the segments' closest-point parameters. When the scan
+/// is unsure, parry (checked) seeds the iterative search instead (seeded
+/// also by the closest-point normal), counted in `counters.fallbacks`.
 pub(super) fn penetration_smoothed(
     a: &FibreGeom,
     b: &FibreGeom,
+    st: (f64, f64),
     out: &mut Vec<ContactPoint>,
     weight: f64,
     weight_grad: DVec3,
     counters: &mut KernelCounters,
 ) {
     counters.end_scans += 1;
-    let scan = Scan::run(a, b, true);
+    let scan = Scan::run(a, b, st, true);
     match scan.verdict() {
         Verdict::Separated => {}
         Verdict::Touching => {
