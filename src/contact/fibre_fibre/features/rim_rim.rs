@@ -7,7 +7,9 @@
 //! other's face planes (or, for near-parallel faces, on the line of the face
 //! centres), and the rim–side points of the two rims (a rim point nearest
 //! the other's axis that lies beyond the other's end plane is next to a
-//! rim–rim minimum).
+//! rim–rim minimum). When it does not converge, a branch and bound on the
+//! rims' distance ([`rims_apart`]) may still show that no value of the
+//! pair matters.
 
 use super::{cap_supports, face_centre, perp, rim_supports, Stationary};
 use crate::contact::FibreGeom;
