@@ -25,9 +25,12 @@ use glam::DVec3;
 /// cheap axis first).
 const CERTIFY_TOL: f64 = 1e-12;
 
-/// Room for every local minimum of one scan: 4 end-pair kernels for each of
-/// the 4 end pairs, 2 end kernels for each of the 4 ends.
-const MAX_MINIMA: usize = 24;
+/// Room for the local minima of one scan that can tie with its best value
+/// (within [`END_TIE_BAND`] of the best so far; the others cannot be the
+/// runner-up of a blend). A scan has at most 24 (4 end-pair kernels for
+/// each of the 4 end pairs, 2 end kernels for each of the 4 ends); when
+/// more than this many are near, the highest gives way.
+const MAX_MINIMA: usize = 8;
 
 /// What a scan concluded.
 enum Verdict {
@@ -62,15 +65,10 @@ struct Scan<'g> {
 }
 
 impl<'g> Scan<'g> {
-    /// The scan of `a` and `b`; with `stop_at_separation` it returns as
-    /// soon as a direction separates them (the contact kernel does not
-    /// need the separation distance, the side–side escape does).
-    fn run(a: &'g FibreGeom, b: &'g FibreGeom, stop_at_separation: bool) -> Self {
-        let (s, t) = segment_closest_params(a, b);
-        let cp = a.centre + s * a.axis - b.centre - t * b.axis;
-        let bound = a.radius + b.radius - cp.length();
-        let (sag_a, sag_b) = (dome_sag(a.radius), dome_sag(b.radius));
-        let mut scan = Scan {
+    /// An empty scan of `a` and `b` (nothing found yet), for [`Scan::pass`].
+    #[inline(always)]
+    fn new(a: &'g FibreGeom, b: &'g FibreGeom) -> Self {
+        Scan {
             a,
             b,
             best: f64::INFINITY,
@@ -80,20 +78,36 @@ impl<'g> Scan<'g> {
             count: 0,
             failed: false,
             any_near: false,
-            reach: bound + sag_a + sag_b + END_TIE_BAND,
-        };
+            reach: f64::INFINITY,
+        }
+    }
+
+    /// The scan of `a` and `b`; with `stop_at_separation` it returns as
+    /// soon as a direction separates them (the contact kernel does not
+    /// need the separation distance, the side–side escape does). `(s, t)`
+    /// are the axis segments' closest-point parameters
+    /// ([`segment_closest_params`]). (In place, not returning the scan: a
+    /// returned scan was copied.)
+    #[inline(always)]
+    fn pass(&mut self, (s, t): (f64, f64), stop_at_separation: bool) {
+        let (a, b) = (self.a, self.b);
+        let cp = a.centre + s * a.axis - b.centre - t * b.axis;
+        let bound = a.radius + b.radius - cp.length();
+        let (sag_a, sag_b) = (dome_sag(a.radius), dome_sag(b.radius));
+        // Upper bound of any value that matters.
+        self.reach = bound + sag_a + sag_b + END_TIE_BAND;
         // Cheap axes first (the closest-point line, the centre line, the
         // common normal): most near misses of the capsules are separated
         // along one of them.
         for d in [cp, a.centre - b.centre, a.axis.cross(b.axis)] {
-            scan.axis(d);
-            if stop_at_separation && scan.best <= 0.0 {
-                return scan;
+            self.axis(d);
+            if stop_at_separation && self.best <= 0.0 {
+                return;
             }
         }
         // The depth is at most the least of these values (each an upper
         // bound): no value above it plus the tie band matters.
-        scan.reach = scan.reach.min(scan.best.max(0.0) + END_TIE_BAND);
+        self.reach = self.reach.min(self.best.max(0.0) + END_TIE_BAND);
         // An end can hold a minimum only if its disc lies within `reach`
         // of the other body: a stationary value is ±|p_A − p_B| with both
         // supports on the surfaces (docs/contacts.md, "End-involved kernels").
@@ -109,38 +123,39 @@ impl<'g> Scan<'g> {
         // drain, ~250 instructions a scan).
         let lb_a = [lb(a, 1.0, sag_a, b), lb(a, -1.0, sag_a, b)];
         let lb_b = [lb(b, 1.0, sag_b, a), lb(b, -1.0, sag_b, a)];
-        scan.any_near = lb_a.iter().chain(&lb_b).any(|&x| x <= scan.reach);
+        self.any_near = lb_a.iter().chain(&lb_b).any(|&x| x <= self.reach);
         // Ends first (their values tighten `reach`, their rim–side points
         // seed rim–rim), then the end pairs still within reach.
         let mut rim_a = [None; 2];
         let mut rim_b = [None; 2];
         for (i, sg) in [1.0, -1.0].into_iter().enumerate() {
-            if lb_a[i] <= scan.reach {
-                scan.feature(face_side(a, sg, b), false);
-                rim_a[i] = scan.feature(rim_side(a, sg, b), false);
+            if lb_a[i] <= self.reach {
+                self.feature(face_side(a, sg, b), false);
+                rim_a[i] = self.feature(rim_side(a, sg, b), false);
             }
-            if lb_b[i] <= scan.reach {
-                scan.feature(face_side(b, sg, a), true);
-                rim_b[i] = scan.feature(rim_side(b, sg, a), true);
+            if lb_b[i] <= self.reach {
+                self.feature(face_side(b, sg, a), true);
+                rim_b[i] = self.feature(rim_side(b, sg, a), true);
             }
         }
-        if stop_at_separation && scan.best <= 0.0 {
-            return scan;
+        if stop_at_separation && self.best <= 0.0 {
+            return;
         }
-        scan.reach = scan.reach.min(scan.best.max(0.0) + END_TIE_BAND);
+        self.reach = self.reach.min(self.best.max(0.0) + END_TIE_BAND);
         for (i, sa) in [1.0, -1.0].into_iter().enumerate() {
             for (j, sb) in [1.0, -1.0].into_iter().enumerate() {
-                if !(lb_a[i] <= scan.reach && lb_b[j] <= scan.reach) {
+                if !(lb_a[i] <= self.reach && lb_b[j] <= self.reach) {
                     continue;
                 }
-                scan.feature(face_face(a, sa, b, sb), false);
-                scan.feature(rim_face(a, sa, b, sb), false);
-                scan.feature(rim_face(b, sb, a, sa), true);
+                self.feature(face_face(a, sa, b, sb), false);
+                self.feature(rim_face(a, sa, b, sb), false);
+                self.feature(rim_face(b, sb, a, sa), true);
                 let hints = [rim_a[i], rim_b[j]];
-                scan.feature(rim_rim(a, sa, b, sb, hints, scan.reach), false);
+                // (The best value may have dropped in this loop.)
+                let reach = self.reach.min(self.best.max(0.0) + END_TIE_BAND);
+                self.feature(rim_rim(a, sa, b, sb, hints, reach), false);
             }
         }
-        scan
     }
 
     /// A cheap axis `±d`: an upper bound, no minimum. Of the two signs only
@@ -179,9 +194,15 @@ impl<'g> Scan<'g> {
             // reached first: the kernel's direction is the minimiser.
             (self.best, self.best_n, self.certified) = (v.min(self.best), n, true);
         }
-        if st.local_min && self.count < MAX_MINIMA {
-            self.minima[self.count] = (v, n);
-            self.count += 1;
+        if st.local_min && v < self.best + END_TIE_BAND {
+            if self.count < MAX_MINIMA {
+                self.minima[self.count] = (v, n);
+                self.count += 1;
+            } else if let Some(m) = self.minima.iter_mut().max_by(|x, y| x.0.total_cmp(&y.0)) {
+                if v < m.0 {
+                    *m = (v, n);
+                }
+            }
         }
         Some(st.point)
     }
@@ -226,7 +247,8 @@ pub(super) fn penetration(
     counters: &mut KernelCounters,
 ) -> Cand {
     counters.end_scans += 1;
-    let scan = Scan::run(a, b, false);
+    let mut scan = Scan::new(a, b);
+    scan.pass(segment_closest_params(a, b), false);
     match scan.verdict() {
         Verdict::Touching => contact_along(a, b, scan.best_n, scan.best),
         Verdict::Separated => {
@@ -255,19 +277,21 @@ pub(super) fn penetration(
 /// 1, so they carry no `ContactPoint::weight_grad` of their own (the
 /// caller's `weight` and `weight_grad` multiply them). C², not C¹: leap-frog's
 /// energy error follows the curvature of the potential (docs/contacts.md,
-/// "Ties"). When the scan is unsure, parry (checked) seeds the iterative
-/// search instead (seeded also by the closest-point normal), counted in
-/// `counters.fallbacks`.
+/// "Ties"). `st` are the segments' closest-point parameters. When the scan
+/// is unsure, parry (checked) seeds the iterative search instead (seeded
+/// also by the closest-point normal), counted in `counters.fallbacks`.
 pub(super) fn penetration_smoothed(
     a: &FibreGeom,
     b: &FibreGeom,
+    st: (f64, f64),
     out: &mut Vec<ContactPoint>,
     weight: f64,
     weight_grad: DVec3,
     counters: &mut KernelCounters,
 ) {
     counters.end_scans += 1;
-    let scan = Scan::run(a, b, true);
+    let mut scan = Scan::new(a, b);
+    scan.pass(st, true);
     match scan.verdict() {
         Verdict::Separated => {}
         Verdict::Touching => {

@@ -122,7 +122,7 @@ pub fn contact_fibre_fibre(
 
     // 1. Near-coaxial end to end.
     if sin < COAXIAL_SIN && end_to_end(a, b) {
-        penetration_smoothed(a, b, out, 1.0, DVec3::ZERO, counters);
+        penetration_smoothed(a, b, (s, t), out, 1.0, DVec3::ZERO, counters);
         return;
     }
 
@@ -161,5 +161,5 @@ pub fn contact_fibre_fibre(
     } else {
         (1.0, DVec3::ZERO)
     };
-    penetration_smoothed(a, b, out, w_pd, g_pd, counters);
+    penetration_smoothed(a, b, (s, t), out, w_pd, g_pd, counters);
 }

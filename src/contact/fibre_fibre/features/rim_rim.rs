@@ -7,7 +7,9 @@
 //! other's face planes (or, for near-parallel faces, on the line of the face
 //! centres), and the rim–side points of the two rims (a rim point nearest
 //! the other's axis that lies beyond the other's end plane is next to a
-//! rim–rim minimum).
+//! rim–rim minimum). When it does not converge, a branch and bound on the
+//! rims' distance ([`rims_apart`]) may still show that no value of the
+//! pair matters.
 
 use super::{cap_supports, face_centre, perp, rim_supports, Stationary};
 use crate::contact::FibreGeom;
@@ -86,6 +88,82 @@ impl Rim {
         let s = (1.0 - c * c).max(0.0).sqrt();
         [(c, s), (c, -s)]
     }
+}
+
+/// Initial intervals of [`rims_apart`] (half-width π/16).
+const APART_INTERVALS: usize = 16;
+/// Most distance evaluations of [`rims_apart`] before it gives up.
+const APART_EVALS: usize = 160;
+/// `(cos, sin)` of π/16 · 2^−k, the half-widths of [`rims_apart`]'s
+/// intervals at depth k.
+const APART_HALF: [(f64, f64); 9] = {
+    // (Evaluated: cos and sin are not const.)
+    [
+        (0.980_785_280_403_230_4, 0.195_090_322_016_128_28),
+        (0.995_184_726_672_196_9, 0.098_017_140_329_560_6),
+        (0.998_795_456_205_172_4, 0.049_067_674_327_418_015),
+        (0.999_698_818_696_204_2, 0.024_541_228_522_912_288),
+        (0.999_924_701_839_144_5, 0.012_271_538_285_719_925),
+        (0.999_981_175_282_601_1, 0.006_135_884_649_154_475),
+        (0.999_995_293_809_576_2, 0.003_067_956_762_965_976_4),
+        (0.999_998_823_451_701_9, 0.001_533_980_186_284_766),
+        (0.999_999_705_862_882_2, 0.000_766_990_318_742_704_5),
+    ]
+};
+
+/// Whether every point of the rim `rf` is further than `reach` from the
+/// rim `ro` (unit normal `uo`), proved by branch and bound on `rf`'s angle:
+/// the distance from a point to a circle is 1-Lipschitz and the rim point
+/// moves by at most `r_f |Δψ|`, so an interval of half-width `h` about an
+/// angle at distance `d` from `ro` is cleared when `d − r_f h > reach`.
+/// False when some point is within `reach`, or the bound needs more than
+/// [`APART_EVALS`] evaluations or finer intervals than the table.
+fn rims_apart(rf: &Rim, uo: DVec3, ro: &Rim, reach: f64) -> bool {
+    let w0 = rf.e - ro.e;
+    // Offsets from `ro`'s centre of the rim point (c, s): along uo,
+    // z0 + c z1 + s z2; squared length q0 + c q1 + s q2.
+    let (z0, z1, z2) = (w0.dot(uo), rf.r * rf.w1.dot(uo), rf.r * rf.w2.dot(uo));
+    let (q0, q1, q2) = (
+        w0.length_squared() + rf.r * rf.r,
+        2.0 * rf.r * w0.dot(rf.w1),
+        2.0 * rf.r * w0.dot(rf.w2),
+    );
+    let dist = |c: f64, s: f64| {
+        let z = z0 + c * z1 + s * z2;
+        let rho = (q0 + c * q1 + s * q2 - z * z).max(0.0).sqrt();
+        (z * z + (rho - ro.r) * (rho - ro.r)).sqrt()
+    };
+    // Depth-first over (cos, sin, depth) of interval centres.
+    let mut stack = [(0.0, 0.0, 0usize); APART_INTERVALS + APART_HALF.len()];
+    let mut top = 0;
+    let (mut c, mut s) = APART_HALF[0];
+    let (c2, s2) = (2.0 * c * c - 1.0, 2.0 * s * c);
+    for _ in 0..APART_INTERVALS {
+        stack[top] = (c, s, 0);
+        top += 1;
+        (c, s) = (c * c2 - s * s2, s * c2 + c * s2);
+    }
+    let mut evals = 0;
+    while top > 0 {
+        top -= 1;
+        let (c, s, k) = stack[top];
+        evals += 1;
+        let d = dist(c, s);
+        // Half-width π/16 · 2^−k, a little widened for the rounding of the
+        // rotated centres.
+        let h = std::f64::consts::PI / 16.0 * 0.5f64.powi(k as i32) + 1e-12;
+        if d - rf.r * h > reach {
+            continue;
+        }
+        if d <= reach || evals >= APART_EVALS || k + 1 >= APART_HALF.len() {
+            return false;
+        }
+        let (hc, hs) = APART_HALF[k + 1];
+        stack[top] = (c * hc - s * hs, s * hc + c * hs, k + 1);
+        stack[top + 1] = (c * hc + s * hs, s * hc - c * hs, k + 1);
+        top += 2;
+    }
+    true
 }
 
 /// Rotate the unit pair `(c, s)` by the angle `t` (tangent form, then
@@ -194,6 +272,11 @@ pub(in crate::contact::fibre_fibre) fn rim_rim(
             converged = true;
             break;
         }
+    }
+    // Not converged (a start in a saddle's basin): no stationary value
+    // matters if the rims are provably further apart than `reach`.
+    if !converged && rims_apart(&rf, o.axis, &ro, reach) {
+        return None;
     }
     let (x, p) = (ro.at(po), rf.at(pf));
     let d = x - p;
