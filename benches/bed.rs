@@ -12,8 +12,9 @@
 //! `--csv FILE` appends one row per thread count (header when the file is
 //! new), for `fibresim plot scaling.csv --x fibres --column fibre_steps_per_s`.
 //!
-//! Per run it prints: fibres, steps, median fibre-steps/s per thread count
-//! and the parallel efficiency, the neighbour-list builds and candidate pairs
+//! Per run it prints: fibres, steps, median fibre-steps/s and CPU time per
+//! fibre-step per thread count, the parallel efficiency and the CPU time on
+//! T threads over that on one, the neighbour-list builds and candidate pairs
 //! per fibre, touching contacts per fibre, the stage shares (one clocked
 //! run), and the heap in use per fibre after loading and while stepping
 //! (a counting allocator wraps the system one).
@@ -170,35 +171,41 @@ fn main() {
         (PEAK.load(Ordering::Relaxed) - before) as f64 / n as f64
     );
 
-    let mut rates = vec![];
+    let (mut rates, mut cpus) = (vec![], vec![]);
     for &t in &threads {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(t)
             .build()
             .unwrap();
-        let samples: Vec<f64> = pool.install(|| {
+        let (samples, cpu): (Vec<f64>, Vec<f64>) = pool.install(|| {
             (0..repeats)
                 .map(|_| {
                     let mut w = World::new(&scene);
                     scene.sim.rotator().visit(Steps(&mut w, 2)); // warm the buffers
-                    let start = Instant::now();
+                    let (start, cpu0) = (Instant::now(), cpu_seconds());
                     scene.sim.rotator().visit(Steps(&mut w, steps));
-                    (steps * n as u64) as f64 / start.elapsed().as_secs_f64()
+                    let fibre_steps = (steps * n as u64) as f64;
+                    (
+                        fibre_steps / start.elapsed().as_secs_f64(),
+                        1e9 * (cpu_seconds() - cpu0) / fibre_steps,
+                    )
                 })
-                .collect()
+                .unzip()
         });
-        let m = median(samples);
+        let (m, c) = (median(samples), median(cpu));
         rates.push((t, m));
+        cpus.push((t, c));
         println!(
-            "threads {t}: median {:.3} M fibre-steps/s ({repeats} runs of {steps} steps)",
+            "threads {t}: median {:.3} M fibre-steps/s, {c:.0} ns of CPU per fibre-step ({repeats} runs of {steps} steps)",
             m / 1e6
         );
     }
     if let (Some(&(1, one)), Some(&(t, many))) = (rates.first(), rates.last()) {
         if t > 1 {
             println!(
-                "parallel efficiency on {t} threads: {:.0} %",
-                100.0 * many / (one * t as f64)
+                "parallel efficiency on {t} threads: {:.0} %; CPU per fibre-step {:.0} % of one thread's",
+                100.0 * many / (one * t as f64),
+                100.0 * cpus.last().unwrap().1 / cpus[0].1
             );
         }
     }
@@ -278,6 +285,25 @@ fn append_csv(
         )
         .unwrap();
     }
+}
+
+/// CPU time of the whole process (every thread), s: `utime + stime` of
+/// `/proc/self/stat`, in the kernel's fixed 100 ticks per second. On a
+/// loaded machine the wall time measures the load; the CPU time of the same
+/// steps on 1 and on T threads says how much work the pool adds (its
+/// spinning included), whoever else runs.
+fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    // Fields after the command name, which is in parentheses: utime and
+    // stime are the 12th and 13th.
+    let rest = stat.rsplit(')').next().unwrap_or("");
+    let ticks: f64 = rest
+        .split_whitespace()
+        .skip(11)
+        .take(2)
+        .filter_map(|f| f.parse::<f64>().ok())
+        .sum();
+    ticks / 100.0
 }
 
 /// Whether `a` is not the value of a `--flag`.

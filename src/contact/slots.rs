@@ -1,5 +1,6 @@
 //! The force stage on many threads, with the bits of one: every candidate
-//! (pair or wall) is computed once, in parallel, into its own slot; then
+//! (pair or wall) is computed once, in parallel, into a slot of its block
+//! (a fixed partition of the candidate list, kept between steps); then
 //! each body gathers its slots in the order the serial stage sums them
 //! (its walls, then its pairs in sorted order, each pair's points in
 //! order), and the scene statistics are reduced in that order too. Forces,
@@ -13,7 +14,6 @@ use super::stage::ContactStats;
 use super::{contacts, Collider, ContactPoint, FibreGeom, HertzLaw, KernelCounters, Wall};
 use glam::DVec3;
 use rayon::prelude::*;
-use smallvec::SmallVec;
 
 /// One contact point's share of a candidate's wrench, computed once: the
 /// force on A, the torques on A and B about their centres, and what the
@@ -25,6 +25,8 @@ struct PointWrench {
     torque_b: DVec3,
     /// `weight · U(δ)`, J.
     energy: f64,
+    /// δ, m (for an MPI rank's tally; the stage notes it at once).
+    #[cfg(feature = "mpi")]
     overlap: f64,
 }
 
@@ -37,17 +39,27 @@ struct DampWrench {
     torque_b: DVec3,
 }
 
-/// A candidate that touches: its index in the neighbour list, its points,
-/// and their damping loads (empty, never allocated, without damping).
-#[derive(Debug, Clone)]
-struct Hit {
-    candidate: u32,
-    points: SmallVec<[PointWrench; 1]>,
-    damp: Vec<DampWrench>,
-}
+/// Candidates per block: the fixed partition of a candidate list into the
+/// pool's work items. It does not depend on the thread count (nor does any
+/// sum); 256 candidates are ~10⁵–10⁶ instructions of kernels, so a block
+/// outweighs the pool's per-item cost and 10⁴ fibres give ~400 blocks to
+/// balance the end-involved pairs' 10× cost spread.
+pub(super) const BLOCK: usize = 256;
 
-/// What a candidate's evaluation gives: its points' wrenches and damping loads.
-type Wrenches = (SmallVec<[PointWrench; 1]>, Vec<DampWrench>);
+/// The touching candidates of one block of a candidate list, computed on one
+/// thread and kept between steps (the buffers never shrink, so a settled
+/// scene steps without allocating): per hit its candidate (index in the
+/// block) and the end of its points, all points' wrenches in candidate
+/// order, their damping loads (empty without damping), and the block's
+/// share of the statistics (touching count and largest overlap; the elastic
+/// energy is summed over the blocks in order afterwards).
+#[derive(Debug, Clone, Default)]
+struct Block {
+    hits: Vec<(u32, u32)>,
+    points: Vec<PointWrench>,
+    damp: Vec<DampWrench>,
+    stats: ContactStats,
+}
 
 /// For each body, its pair candidates in the serial stage's order, with the
 /// side it is on (CSR, rebuilt with the neighbour list).
@@ -67,9 +79,9 @@ struct Incidence {
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Slots {
     incidence: Incidence,
-    wall_hits: Vec<Hit>,
-    pair_hits: Vec<Hit>,
-    /// Candidate index → index in the hits (`u32::MAX`: no contact).
+    wall_blocks: Vec<Block>,
+    pair_blocks: Vec<Block>,
+    /// Candidate index → index of its hit in its block (`u32::MAX`: no contact).
     wall_slot: Vec<u32>,
     pair_slot: Vec<u32>,
 }
@@ -119,25 +131,27 @@ impl Incidence {
     }
 }
 
-/// The wrench of each of `points` between A (`ga`) and B (`gb`, absent for
-/// a wall), as the serial stage's `apply` computes it; with `damping`
-/// (the view, A's and B's indices) the damping force is added as `apply`
-/// adds it, and its loads are returned.
-#[inline]
-fn wrenches(
-    points: &[ContactPoint],
-    law: &HertzLaw,
-    ga: &FibreGeom,
-    gb: Option<&FibreGeom>,
-    damping: Option<(&DampingView, usize, Option<usize>)>,
-) -> Wrenches {
-    let mut damp = Vec::new();
-    let wrenches = points
-        .iter()
-        .map(|c| {
+impl Block {
+    /// Append the wrench of each of `points` between body `a` (`ga`) and
+    /// `b` (`gb`, absent for a wall) as the serial stage's `apply` computes
+    /// it, as one hit of candidate `k`; with `damping` (the view, A's and
+    /// B's indices) the damping force is added as `apply` adds it, and its
+    /// loads are appended. The overlaps are noted in `apply`'s order.
+    #[inline]
+    fn push(
+        &mut self,
+        k: usize,
+        points: &[ContactPoint],
+        law: &HertzLaw,
+        (ga, a): (&FibreGeom, usize),
+        b: Option<(&FibreGeom, usize)>,
+        damping: Option<&DampingView>,
+    ) {
+        let gb = b.map(|(gb, _)| gb);
+        for c in points {
             let mut f_n = c.weight * law.force(c.overlap);
-            if let Some((view, a, b)) = damping {
-                let other = b.zip(gb).map(|(b, gb)| (b, gb.centre));
+            if let Some(view) = damping {
+                let other = b.map(|(gb, b)| (b, gb.centre));
                 let d = view.force(
                     (a, ga.centre),
                     other,
@@ -149,7 +163,7 @@ fn wrenches(
                 );
                 f_n += d;
                 let fv = d * c.normal;
-                damp.push(DampWrench {
+                self.damp.push(DampWrench {
                     force: fv,
                     torque_a: (c.point - ga.centre).cross(fv),
                     torque_b: gb.map_or(DVec3::ZERO, |gb| (c.point - gb.centre).cross(fv)),
@@ -158,73 +172,75 @@ fn wrenches(
             let force = f_n * c.normal;
             let u = law.energy(c.overlap);
             let couple = -u * c.weight_grad;
-            PointWrench {
+            self.points.push(PointWrench {
                 force,
                 torque_a: (c.point - ga.centre).cross(force) + couple,
                 torque_b: gb.map_or(DVec3::ZERO, |gb| {
                     (c.point - gb.centre).cross(force) + couple
                 }),
                 energy: c.weight * u,
+                #[cfg(feature = "mpi")]
                 overlap: c.overlap,
+            });
+            self.stats.note_overlap(c.overlap / (2.0 * ga.radius), a);
+            if let Some((gb, b)) = b {
+                self.stats.note_overlap(c.overlap / (2.0 * gb.radius), b);
             }
-        })
-        .collect();
-    (wrenches, damp)
-}
-
-/// Compute every candidate of `list` in parallel into `hits` (in candidate
-/// order), and their kernel counts.
-fn compute_hits<T: Sync>(
-    candidates: &[T],
-    hits: &mut Vec<Hit>,
-    eval: impl Fn(&T, &mut Vec<ContactPoint>, &mut KernelCounters) -> Option<Wrenches> + Sync,
-) -> KernelCounters {
-    let (list, counters) = candidates
-        .par_iter()
-        .enumerate()
-        .fold(
-            || (Vec::new(), Vec::new(), KernelCounters::default()),
-            |(mut out, mut buf, mut counters): (Vec<Hit>, Vec<ContactPoint>, KernelCounters),
-             (k, c)| {
-                buf.clear();
-                if let Some((points, damp)) = eval(c, &mut buf, &mut counters) {
-                    out.push(Hit {
-                        candidate: k as u32,
-                        points,
-                        damp,
-                    });
-                }
-                (out, buf, counters)
-            },
-        )
-        .map(|(out, _, counters)| (vec![out], counters))
-        .reduce(
-            || (Vec::new(), KernelCounters::default()),
-            |(mut a, ca), (b, cb)| {
-                a.extend(b);
-                (a, ca + cb)
-            },
-        );
-    hits.clear();
-    for part in list {
-        hits.extend(part);
-    }
-    counters
-}
-
-/// Point `slot` at the hits (resetting the previous step's).
-fn index_hits(slot: &mut Vec<u32>, len: usize, previous: &[Hit], hits: &[Hit]) {
-    if slot.len() != len {
-        slot.clear();
-        slot.resize(len, NONE);
-    } else {
-        for h in previous {
-            slot[h.candidate as usize] = NONE;
         }
+        self.stats.touching += 1;
+        self.hits.push((k as u32, self.points.len() as u32));
     }
-    for (k, h) in hits.iter().enumerate() {
-        slot[h.candidate as usize] = k as u32;
+
+    /// The points of hit `s` (an index in `hits`).
+    #[inline]
+    fn range(&self, s: u32) -> std::ops::Range<usize> {
+        let s = s as usize;
+        let start = if s == 0 {
+            0
+        } else {
+            self.hits[s - 1].1 as usize
+        };
+        start..self.hits[s].1 as usize
     }
+}
+
+/// Compute every candidate of `candidates` into `blocks` (one per
+/// [`BLOCK`] candidates, on the pool) and point `slot` at their hits;
+/// returns the kernels' counts. `eval(k, candidate, buffer, counters,
+/// block)` pushes candidate `k`'s hit to the block if it touches.
+fn compute_blocks<T: Sync>(
+    candidates: &[T],
+    blocks: &mut Vec<Block>,
+    slot: &mut Vec<u32>,
+    eval: impl Fn(usize, &T, &mut Vec<ContactPoint>, &mut KernelCounters, &mut Block) + Sync,
+) -> KernelCounters {
+    blocks.resize_with(candidates.len().div_ceil(BLOCK), Block::default);
+    // Every entry is written below, so a resize need not reset them.
+    slot.resize(candidates.len(), NONE);
+    blocks
+        .par_iter_mut()
+        .zip(slot.par_chunks_mut(BLOCK))
+        .zip(candidates.par_chunks(BLOCK))
+        .with_min_len(1)
+        .map_init(Vec::new, |buf, ((block, slot), cands)| {
+            let mut counters = KernelCounters::default();
+            block.hits.clear();
+            block.points.clear();
+            block.damp.clear();
+            block.stats = ContactStats::default();
+            for (k, (c, s)) in cands.iter().zip(slot.iter_mut()).enumerate() {
+                buf.clear();
+                let before = block.hits.len();
+                eval(k, c, buf, &mut counters, block);
+                *s = if block.hits.len() > before {
+                    before as u32
+                } else {
+                    NONE
+                };
+            }
+            counters
+        })
+        .reduce(KernelCounters::default, |a, b| a + b)
 }
 
 /// A load one contact point puts on its two bodies: the force on A and the
@@ -252,8 +268,23 @@ struct Gather<'a> {
     inc: &'a Incidence,
     wall_slot: &'a [u32],
     pair_slot: &'a [u32],
-    wall_hits: &'a [Hit],
-    pair_hits: &'a [Hit],
+    wall_blocks: &'a [Block],
+    pair_blocks: &'a [Block],
+}
+
+/// The loads `of` candidate `c`'s hit, if it has one.
+#[inline]
+fn hit_of<'a, L>(
+    blocks: &'a [Block],
+    slot: &[u32],
+    c: usize,
+    of: &impl Fn(&Block) -> &[L],
+) -> Option<&'a [L]> {
+    let s = slot[c];
+    (s != NONE).then(|| {
+        let block = &blocks[c / BLOCK];
+        &of(block)[block.range(s)]
+    })
 }
 
 impl Gather<'_> {
@@ -263,7 +294,7 @@ impl Gather<'_> {
         &self,
         force: &mut [DVec3],
         torque: &mut [DVec3],
-        of: impl Fn(&Hit) -> &[L] + Sync,
+        of: impl Fn(&Block) -> &[L] + Sync,
     ) {
         let inc = self.inc;
         force
@@ -273,23 +304,21 @@ impl Gather<'_> {
             .for_each(|(b, (f, t))| {
                 let (mut fb, mut tb) = (DVec3::ZERO, DVec3::ZERO);
                 for w in inc.walls[b]..inc.walls[b + 1] {
-                    let s = self.wall_slot[w as usize];
-                    if s != NONE {
-                        for p in of(&self.wall_hits[s as usize]) {
-                            let (pf, pa, _) = p.parts();
-                            fb += pf;
-                            tb += pa;
-                        }
+                    let hit = hit_of(self.wall_blocks, self.wall_slot, w as usize, &of);
+                    for p in hit.into_iter().flatten() {
+                        let (pf, pa, _) = p.parts();
+                        fb += pf;
+                        tb += pa;
                     }
                 }
                 let range = inc.start[b] as usize..inc.start[b + 1] as usize;
                 for &entry in &inc.pairs[range] {
                     let (c, a_side) = (entry & !SIDE_B, entry & SIDE_B == 0);
-                    let s = self.pair_slot[c as usize];
-                    if s == NONE {
+                    let Some(hit) = hit_of(self.pair_blocks, self.pair_slot, c as usize, &of)
+                    else {
                         continue;
-                    }
-                    for p in of(&self.pair_hits[s as usize]) {
+                    };
+                    for p in hit {
                         let (pf, pa, pb) = p.parts();
                         if a_side {
                             fb += pf;
@@ -331,10 +360,6 @@ impl Slots {
         if self.incidence.build != list.builds || self.incidence.start.len() != n + 1 {
             self.incidence.rebuild(n, list);
         }
-        let previous_walls = std::mem::take(&mut self.wall_hits);
-        let previous_pairs = std::mem::take(&mut self.pair_hits);
-        let mut wall_hits = Vec::new();
-        let mut pair_hits = Vec::new();
         let (view, loads) = match damping {
             Some((d, bodies, states)) => {
                 let view = d.view(bodies, states);
@@ -343,41 +368,46 @@ impl Slots {
             None => (None, None),
         };
         let view = view.as_ref();
-        *counters = *counters
-            + compute_hits(&list.walls, &mut wall_hits, |&(i, k), buf, c| {
-                let g = &geoms[i as usize];
-                contacts(
-                    Collider::Fibre(g),
-                    Collider::Wall(&walls[k as usize]),
-                    buf,
-                    c,
-                );
-                let damping = view.map(|v| (v, i as usize, None));
-                (!buf.is_empty())
-                    .then(|| wrenches(buf, laws.fibre_wall(i as usize), g, None, damping))
-            });
-        *counters = *counters
-            + compute_hits(&list.pairs, &mut pair_hits, |&(a, b), buf, c| {
-                let (ga, gb) = (&geoms[a as usize], &geoms[b as usize]);
-                contacts(Collider::Fibre(ga), Collider::Fibre(gb), buf, c);
-                let damping = view.map(|v| (v, a as usize, Some(b as usize)));
-                (!buf.is_empty()).then(|| {
-                    let law = &laws.fibre_fibre(a as usize, b as usize);
-                    wrenches(buf, law, ga, Some(gb), damping)
-                })
-            });
-        index_hits(
-            &mut self.wall_slot,
-            list.walls.len(),
-            &previous_walls,
-            &wall_hits,
+        // Walls and pairs in one fork: the walls' few blocks need not wait
+        // for a pool of their own.
+        let (wall_counts, pair_counts) = rayon::join(
+            || {
+                compute_blocks(
+                    &list.walls,
+                    &mut self.wall_blocks,
+                    &mut self.wall_slot,
+                    |k, &(i, w), buf, c, out| {
+                        let (g, i) = (&geoms[i as usize], i as usize);
+                        contacts(
+                            Collider::Fibre(g),
+                            Collider::Wall(&walls[w as usize]),
+                            buf,
+                            c,
+                        );
+                        if !buf.is_empty() {
+                            out.push(k, buf, laws.fibre_wall(i), (g, i), None, view);
+                        }
+                    },
+                )
+            },
+            || {
+                compute_blocks(
+                    &list.pairs,
+                    &mut self.pair_blocks,
+                    &mut self.pair_slot,
+                    |k, &(a, b), buf, c, out| {
+                        let (a, b) = (a as usize, b as usize);
+                        let (ga, gb) = (&geoms[a], &geoms[b]);
+                        contacts(Collider::Fibre(ga), Collider::Fibre(gb), buf, c);
+                        if !buf.is_empty() {
+                            let law = &laws.fibre_fibre(a, b);
+                            out.push(k, buf, law, (ga, a), Some((gb, b)), view);
+                        }
+                    },
+                )
+            },
         );
-        index_hits(
-            &mut self.pair_slot,
-            list.pairs.len(),
-            &previous_pairs,
-            &pair_hits,
-        );
+        *counters = *counters + wall_counts + pair_counts;
 
         // Gather: each body sums its slots in the serial order (and so its
         // damping loads, for the ledger).
@@ -385,36 +415,26 @@ impl Slots {
             inc: &self.incidence,
             wall_slot: &self.wall_slot,
             pair_slot: &self.pair_slot,
-            wall_hits: &wall_hits,
-            pair_hits: &pair_hits,
+            wall_blocks: &self.wall_blocks,
+            pair_blocks: &self.pair_blocks,
         };
-        gather.sum(force, torque, |h| &h.points);
+        gather.sum(force, torque, |b| &b.points);
         if let Some((df, dt)) = loads {
-            gather.sum(df, dt, |h| &h.damp);
+            gather.sum(df, dt, |b| &b.damp);
         }
 
-        // The statistics, reduced in the serial order (walls, then pairs).
+        // The statistics in the serial order (walls, then pairs): the
+        // blocks' counts and first largest overlaps, then the energy summed
+        // point by point (a sum of partial sums would round differently).
         let mut stats = ContactStats::default();
-        for h in &wall_hits {
-            let a = list.walls[h.candidate as usize].0 as usize;
-            stats.touching += 1;
-            for p in &h.points {
-                stats.elastic += p.energy;
-                stats.note_overlap(p.overlap / (2.0 * geoms[a].radius), a);
-            }
+        let blocks = self.wall_blocks.iter().chain(&self.pair_blocks);
+        for part in blocks.clone().map(|b| &b.stats) {
+            stats.touching += part.touching;
+            stats.note_overlap(part.max_overlap_ratio, part.max_overlap_body);
         }
-        for h in &pair_hits {
-            let (a, b) = list.pairs[h.candidate as usize];
-            let (a, b) = (a as usize, b as usize);
-            stats.touching += 1;
-            for p in &h.points {
-                stats.elastic += p.energy;
-                stats.note_overlap(p.overlap / (2.0 * geoms[a].radius), a);
-                stats.note_overlap(p.overlap / (2.0 * geoms[b].radius), b);
-            }
+        for p in blocks.flat_map(|b| &b.points) {
+            stats.elastic += p.energy;
         }
-        self.wall_hits = wall_hits;
-        self.pair_hits = pair_hits;
         stats
     }
 }
@@ -431,29 +451,36 @@ impl Slots {
         geoms: &[FibreGeom],
         mut f: impl FnMut(bool, u32, &mut dyn Iterator<Item = [f64; 3]>),
     ) {
-        for h in &self.wall_hits {
-            let a = list.walls[h.candidate as usize].0 as usize;
-            let ra = 2.0 * geoms[a].radius;
-            f(
-                true,
-                h.candidate,
-                &mut h.points.iter().map(|p| [p.energy, p.overlap / ra, 0.0]),
-            );
+        for (n, block) in self.wall_blocks.iter().enumerate() {
+            for (s, &(k, _)) in block.hits.iter().enumerate() {
+                let candidate = (n * BLOCK) as u32 + k;
+                let a = list.walls[candidate as usize].0 as usize;
+                let ra = 2.0 * geoms[a].radius;
+                f(
+                    true,
+                    candidate,
+                    &mut block.points[block.range(s as u32)]
+                        .iter()
+                        .map(|p| [p.energy, p.overlap / ra, 0.0]),
+                );
+            }
         }
-        for h in &self.pair_hits {
-            let (a, b) = list.pairs[h.candidate as usize];
-            let (ra, rb) = (
-                2.0 * geoms[a as usize].radius,
-                2.0 * geoms[b as usize].radius,
-            );
-            f(
-                false,
-                h.candidate,
-                &mut h
-                    .points
-                    .iter()
-                    .map(|p| [p.energy, p.overlap / ra, p.overlap / rb]),
-            );
+        for (n, block) in self.pair_blocks.iter().enumerate() {
+            for (s, &(k, _)) in block.hits.iter().enumerate() {
+                let candidate = (n * BLOCK) as u32 + k;
+                let (a, b) = list.pairs[candidate as usize];
+                let (ra, rb) = (
+                    2.0 * geoms[a as usize].radius,
+                    2.0 * geoms[b as usize].radius,
+                );
+                f(
+                    false,
+                    candidate,
+                    &mut block.points[block.range(s as u32)]
+                        .iter()
+                        .map(|p| [p.energy, p.overlap / ra, p.overlap / rb]),
+                );
+            }
         }
     }
 }

@@ -404,3 +404,154 @@ impl ContactStage {
         self.slots.for_each_hit(list, &self.geoms, f);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::damping::Restitution;
+    use crate::contact::slots::BLOCK;
+    use glam::DQuat;
+
+    /// A block of 4 × 12 × 12 fibres along x (D = 0.01 m, L = 0.025 m),
+    /// each overlapping its side and end neighbours by ~10 µm and the outer
+    /// ones pressing on the box, tilted by up to 2 mrad and moving at up to
+    /// 0.3 m/s: two blocks of wall candidates and twelve of pairs.
+    fn packed(seed: u64) -> crate::scenario::Scene {
+        let (d, l, squeeze) = (0.01, 0.025, 1e-5);
+        let (nx, ny, nz) = (4, 12, 12);
+        let (px, py) = (l - squeeze, d - squeeze);
+        let max = [px * nx as f64, py * ny as f64, py * nz as f64];
+        let text = format!(
+            "[simulation]\ndt = 1e-6\nt_end = 1e-6\n[box]\nmin = [0.0, 0.0, 0.0]\nmax = [{}, {}, {}]\nyoung = 5e7\npoisson = 0.23\n[[body]]\nshape = \"fibre\"\ndiameter = {d}\nlength = {l}\ndensity = 1100.0\nyoung = 5e7\npoisson = 0.35\nposition = [0.1, 0.1, 0.1]\n",
+            max[0] + 0.1, max[1] + 0.1, max[2] + 0.1
+        );
+        let mut scene = crate::scenario::parse_str(&text, "<packed>").expect("one-body template");
+        // The box, squeezed onto the block (the template's is loose so that
+        // the single body loads).
+        let walls = scene.walls.as_mut().expect("a box");
+        walls.max = DVec3::from_array(max) + DVec3::splat(squeeze);
+        walls.min = -DVec3::splat(squeeze);
+        let template = scene.bodies[0];
+        let mut seed = seed;
+        let mut r = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            2.0 * ((seed >> 11) as f64 / (1u64 << 53) as f64) - 1.0
+        };
+        scene.bodies.clear();
+        scene.initial.clear();
+        for i in 0..nx {
+            for j in 0..ny {
+                for k in 0..nz {
+                    let axis = DVec3::new(1.0, 2e-3 * r(), 2e-3 * r()).normalize();
+                    let x = DVec3::new(
+                        px * (i as f64 + 0.5),
+                        py * (j as f64 + 0.5),
+                        py * (k as f64 + 0.5),
+                    );
+                    scene.bodies.push(template);
+                    scene.initial.push(BodyState {
+                        x,
+                        v: 0.3 * DVec3::new(r(), r(), r()),
+                        rot: crate::body::RotState {
+                            q: DQuat::from_rotation_arc(DVec3::X, axis),
+                            omega_b: DVec3::new(r(), r(), r()),
+                        },
+                    });
+                }
+            }
+        }
+        scene
+    }
+
+    /// Forces, torques, statistics and dissipated energy of `stage` at
+    /// `states`, on a pool of `threads`.
+    fn on_pool(
+        stage: &mut ContactStage,
+        bodies: &[Body],
+        states: &[BodyState],
+        threads: usize,
+    ) -> (Vec<[u64; 6]>, ContactStats, u64) {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let n = bodies.len();
+        let (mut force, mut torque) = (vec![DVec3::ZERO; n], vec![DVec3::ZERO; n]);
+        pool.install(|| stage.compute(bodies, states, &mut force, &mut torque));
+        let bits = force
+            .iter()
+            .zip(&torque)
+            .map(|(f, t)| {
+                let (f, t) = (f.to_array(), t.to_array());
+                [f[0], f[1], f[2], t[0], t[1], t[2]].map(f64::to_bits)
+            })
+            .collect();
+        (bits, stage.stats, stage.dissipated().to_bits())
+    }
+
+    /// The pool's stage (`slots.rs`: candidates in fixed blocks, gathered
+    /// per body) gives the one-thread stage's bits on a scene of several
+    /// blocks of walls and pairs, elastic and damped, at a first and at a
+    /// second configuration (the blocks' buffers reused, some contacts
+    /// gone, others new). The reference is the one-thread stage, an
+    /// independent code path (`apply`).
+    #[test]
+    fn the_pool_gives_the_bits_of_one_thread() {
+        let scene = packed(0x9e37_79b9_7f4a_7c15);
+        let (bodies, n) = (&scene.bodies, scene.bodies.len());
+        // The second configuration: every fibre moved by 3 µs of its velocity
+        // and turned a little (within the skin: the list is kept).
+        let moved: Vec<BodyState> = scene
+            .initial
+            .iter()
+            .map(|s| {
+                let mut s = *s;
+                s.x += 3e-6 * s.v;
+                s.rot.q = (s.rot.q * DQuat::from_scaled_axis(3e-6 * s.rot.omega_b)).normalize();
+                s
+            })
+            .collect();
+        for damping in [
+            None,
+            Some(Restitution {
+                fibre: 0.5,
+                wall: 0.7,
+            }),
+        ] {
+            let new = || {
+                ContactStage::new(bodies, &scene.materials, scene.walls.as_ref())
+                    .with_damping(damping, n, 1e-6, None)
+            };
+            let mut one = new();
+            let first = on_pool(&mut one, bodies, &scene.initial, 1);
+            let second = on_pool(&mut one, bodies, &moved, 1);
+            let list = &one.neighbours;
+            assert!(
+                list.walls.len() > BLOCK && list.pairs.len() > 2 * BLOCK,
+                "several blocks: {} wall and {} pair candidates",
+                list.walls.len(),
+                list.pairs.len()
+            );
+            assert!(
+                first.1.touching > BLOCK && second.1.touching > BLOCK,
+                "live contacts: {} then {}",
+                first.1.touching,
+                second.1.touching
+            );
+            assert_eq!(one.neighbour_builds(), 1, "the list is kept");
+            for threads in [2, 3] {
+                let mut many = new();
+                assert!(
+                    on_pool(&mut many, bodies, &scene.initial, threads) == first,
+                    "{threads} threads, first configuration, damping {damping:?}"
+                );
+                assert!(
+                    on_pool(&mut many, bodies, &moved, threads) == second,
+                    "{threads} threads, second configuration, damping {damping:?}"
+                );
+            }
+        }
+    }
+}
