@@ -10,7 +10,9 @@
 //! ```
 //!
 //! `--csv FILE` appends one row per thread count (header when the file is
-//! new), for `fibresim plot scaling.csv --x fibres --column fibre_steps_per_s`.
+//! new), for `fibresim plot scaling.csv --x fibres --column fibre_steps_per_s`;
+//! its heap column is the world's heap on that many threads (the pool's
+//! blocks included) plus the scene's share as `fibresim run` holds it.
 //!
 //! Per run it prints: fibres, steps, median fibre-steps/s and CPU time per
 //! fibre-step per thread count, the parallel efficiency and the CPU time on
@@ -171,33 +173,36 @@ fn main() {
         (PEAK.load(Ordering::Relaxed) - before) as f64 / n as f64
     );
 
-    let (mut rates, mut cpus) = (vec![], vec![]);
+    let (mut rates, mut cpus, mut worlds) = (vec![], vec![], vec![]);
     for &t in &threads {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(t)
             .build()
             .unwrap();
-        let (samples, cpu): (Vec<f64>, Vec<f64>) = pool.install(|| {
-            (0..repeats)
-                .map(|_| {
-                    let mut w = World::new(&scene);
-                    scene.sim.rotator().visit(Steps(&mut w, 2)); // warm the buffers
-                    let (start, cpu0) = (Instant::now(), cpu_seconds());
-                    scene.sim.rotator().visit(Steps(&mut w, steps));
-                    let fibre_steps = (steps * n as u64) as f64;
-                    (
-                        fibre_steps / start.elapsed().as_secs_f64(),
-                        1e9 * (cpu_seconds() - cpu0) / fibre_steps,
-                    )
-                })
-                .unzip()
+        let (samples, cpu, world): (Vec<f64>, Vec<f64>, usize) = pool.install(|| {
+            let (mut samples, mut cpu, mut world) = (vec![], vec![], 0);
+            for _ in 0..repeats {
+                let base = IN_USE.load(Ordering::Relaxed);
+                let mut w = World::new(&scene);
+                scene.sim.rotator().visit(Steps(&mut w, 2)); // warm the buffers
+                let (start, cpu0) = (Instant::now(), cpu_seconds());
+                scene.sim.rotator().visit(Steps(&mut w, steps));
+                let fibre_steps = (steps * n as u64) as f64;
+                samples.push(fibre_steps / start.elapsed().as_secs_f64());
+                cpu.push(1e9 * (cpu_seconds() - cpu0) / fibre_steps);
+                // The world's heap on t threads (the pool's blocks included).
+                world = world.max(IN_USE.load(Ordering::Relaxed) - base);
+            }
+            (samples, cpu, world)
         });
         let (m, c) = (median(samples), median(cpu));
         rates.push((t, m));
         cpus.push((t, c));
+        worlds.push((t, world));
         println!(
-            "threads {t}: median {:.3} M fibre-steps/s, {c:.0} ns of CPU per fibre-step ({repeats} runs of {steps} steps)",
-            m / 1e6
+            "threads {t}: median {:.3} M fibre-steps/s, {c:.0} ns of CPU per fibre-step ({repeats} runs of {steps} steps); world heap {:.0} B/fibre",
+            m / 1e6,
+            world as f64 / n as f64
         );
     }
     if let (Some(&(1, one)), Some(&(t, many))) = (rates.first(), rates.last()) {
@@ -220,7 +225,7 @@ fn main() {
     let initial = std::mem::take(&mut scene.initial);
     let moved = initial.capacity() * std::mem::size_of::<fibresim::body::BodyState>();
     let scene = &scene;
-    let (touching, builds, heap_per_fibre) = pool.install(|| {
+    let (touching, builds) = pool.install(|| {
         let mut w = World::from_states(scene, initial);
         w.timers = Some(StageTimes::default());
         scene.sim.rotator().visit(Steps(&mut w, steps));
@@ -244,14 +249,21 @@ fn main() {
             in_use as f64 / n as f64,
             (in_use - heap) as f64 / n as f64
         );
-        (
-            c.stats.touching as f64 / n as f64,
-            c.neighbour_builds(),
-            in_use as f64 / n as f64,
-        )
+        (c.stats.touching as f64 / n as f64, c.neighbour_builds())
     });
+    // Per thread count, the world's heap on that many threads plus the
+    // scene's share once its step-0 states are moved out (as `run` holds it).
+    let scene_share = (loaded - moved) as f64 / n as f64;
+    let heaps: Vec<f64> = worlds
+        .iter()
+        .map(|&(t, w)| {
+            let h = w as f64 / n as f64 + scene_share;
+            println!("heap while stepping on {t} thread(s): {h:.0} B/fibre with the scene");
+            h
+        })
+        .collect();
     if let Some(path) = flag("--csv") {
-        append_csv(&path, n, steps, &rates, touching, builds, heap_per_fibre);
+        append_csv(&path, n, steps, &rates, touching, builds, &heaps);
     }
 }
 
@@ -263,7 +275,7 @@ fn append_csv(
     rates: &[(usize, f64)],
     touching: f64,
     builds: u64,
-    heap: f64,
+    heaps: &[f64],
 ) {
     use std::io::Write;
     let new = !std::path::Path::new(path).exists();
@@ -276,7 +288,7 @@ fn append_csv(
         writeln!(f, "fibres,threads,fibre_steps_per_s,ns_per_fibre_step,parallel_efficiency,steps,list_builds,touching_per_fibre,heap_bytes_per_fibre").unwrap();
     }
     let one = rates.iter().find(|r| r.0 == 1).map(|r| r.1);
-    for &(t, rate) in rates {
+    for (&(t, rate), heap) in rates.iter().zip(heaps) {
         let eff = one.map_or(f64::NAN, |o| rate / (o * t as f64));
         writeln!(
             f,
