@@ -1,7 +1,6 @@
 #!/usr/bin/env bash
 # Strong and weak scaling over MPI ranks (issue 13), one CSV row per run.
 #
-#   cargo build --release --features mpi
 #   scripts/mpi_scaling.sh OUT_DIR [STEPS_10K] [STEPS_1M] [STEPS_WEAK]
 #
 # Makes the large beds with `fibresim replicate` from the shipped bed_10k
@@ -22,6 +21,7 @@ steps_10k=${2:-500}
 steps_1m=${3:-10}
 steps_weak=${4:-40}
 bin=${FIBRESIM:-target/release/fibresim}
+[ -n "${FIBRESIM:-}" ] || cargo build --release --features mpi -q
 mkdir -p "$out/beds" "$out/runs"
 mpi=(mpirun --allow-run-as-root --oversubscribe -x OMPI_MCA_mpi_yield_when_idle=1)
 csv="$out/mpi_scaling.csv"
@@ -49,6 +49,8 @@ s = json.load(open(sys.argv[1]))
 case, k, t, n, same = sys.argv[2], int(sys.argv[3]), int(sys.argv[4]), int(sys.argv[5]), sys.argv[6]
 bodies = s["bodies"]
 r = s.get("ranks", [])
+if k > 1 and not r:
+    sys.exit(f"{sys.argv[1]}: no `ranks` report: this binary was built without `--features mpi`")
 mean = lambda key: sum(x[key] for x in r) / len(r) if r else 0.0
 peak = lambda key: max(x[key] for x in r) if r else 0.0
 rss = max(int(l) for l in open(sys.argv[7]) if l.strip().isdigit()) / 1024
@@ -77,9 +79,9 @@ import csv, sys
 rows = [("series", "ranks", "fibre_steps_per_s", "wall_s", "bytes_per_fibre_step", "peak_rss_mb")]
 for r in csv.DictReader(open(sys.argv[1])):
     n = int(r["fibres"])
-    bed = {10000: "10^4 fibres (bed_10k)", 1000000: "10^6 fibres"}.get(n, "")
+    bed = {10000: "10⁴ fibres (bed_10k)", 1000000: "10⁶ fibres"}.get(n, "")
     if r["case"] == "weak":
-        name = "weak: 10^5 fibres per rank"
+        name = "weak: 10⁵ fibres per rank"
     elif r["threads"] == "2":
         name = f"{bed}, one process on 2 threads"
     else:
