@@ -22,7 +22,6 @@
 #[path = "../benches/common/poses.rs"]
 mod poses;
 
-use fibresim::body::Shape;
 use fibresim::contact::{contact_fibre_fibre, ContactPoint, FibreGeom, KernelCounters};
 use fibresim::integrate::rotate::{Rotator, RotatorVisitor};
 use fibresim::integrate::step::World;
@@ -48,17 +47,7 @@ fn geoms(scene: &fibresim::scenario::Scene) -> Vec<FibreGeom> {
         .bodies
         .iter()
         .zip(&scene.initial)
-        .map(|(b, s)| {
-            let Shape::Fibre { diameter, length } = b.shape else {
-                panic!("fibres only")
-            };
-            FibreGeom {
-                centre: s.x,
-                axis: fibresim::math::body_x_axis(s.rot.q),
-                radius: 0.5 * diameter,
-                half_length: 0.5 * length,
-            }
-        })
+        .map(|(b, s)| fibresim::contact::stage::geom(b, s))
         .collect()
 }
 

@@ -444,24 +444,13 @@ fn tied_minima_give_the_smooth_minimum_of_the_oracle_minima() {
 /// Source of the pairs: the shipped bed file; of the depths: the oracle.
 #[test]
 fn bed_pairs_match_brute_force_oracle() {
-    use fibresim::body::Shape;
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/bed_10k.toml");
     let scene = fibresim::scenario::load(std::path::Path::new(path)).expect("the bed");
     let g: Vec<FibreGeom> = scene
         .bodies
         .iter()
         .zip(&scene.initial)
-        .map(|(b, s)| {
-            let Shape::Fibre { diameter, length } = b.shape else {
-                panic!("fibres only")
-            };
-            FibreGeom {
-                centre: s.x,
-                axis: fibresim::math::body_x_axis(s.rot.q),
-                radius: 0.5 * diameter,
-                half_length: 0.5 * length,
-            }
-        })
+        .map(|(b, s)| fibresim::contact::stage::geom(b, s))
         .collect();
     // Cells as wide as the longest fibre's bounding sphere: every pair
     // that can touch is in neighbouring cells.

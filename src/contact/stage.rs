@@ -55,7 +55,7 @@ pub struct ContactStage {
 pub(crate) const SKIN_PER_DIAMETER: f64 = 0.2;
 
 /// The kernels' view of fibre `body` at state `s`.
-pub(crate) fn geom(body: &Body, s: &BodyState) -> FibreGeom {
+pub fn geom(body: &Body, s: &BodyState) -> FibreGeom {
     let Shape::Fibre { diameter, length } = body.shape else {
         unreachable!("scene validation admits only fibres in contact scenes")
     };
