@@ -142,20 +142,52 @@ impl<'g> Scan<'g> {
             return;
         }
         self.reach = self.reach.min(self.best.max(0.0) + END_TIE_BAND);
+        // End pairs whose discs are further apart than `reach`
+        // ([`end_pair_gap`]): each stationary value of their kernels is
+        // ±|p_A − p_B| with both points on the two ends' caps or rims, so
+        // none lies within ±reach. Above +reach none matters; below −reach
+        // one would separate the pair, which an uncertified scan still
+        // needs: those pairs are run after all when the scan would be
+        // unsure (only in the contact kernel: the side–side escape wants
+        // the separation's value).
+        let mut deferred = [[false; 2]; 2];
         for (i, sa) in [1.0, -1.0].into_iter().enumerate() {
             for (j, sb) in [1.0, -1.0].into_iter().enumerate() {
                 if !(lb_a[i] <= self.reach && lb_b[j] <= self.reach) {
                     continue;
                 }
-                self.feature(face_face(a, sa, b, sb), false);
-                self.feature(rim_face(a, sa, b, sb), false);
-                self.feature(rim_face(b, sb, a, sa), true);
-                let hints = [rim_a[i], rim_b[j]];
-                // (The best value may have dropped in this loop.)
-                let reach = self.reach.min(self.best.max(0.0) + END_TIE_BAND);
-                self.feature(rim_rim(a, sa, b, sb, hints, reach), false);
+                if stop_at_separation {
+                    let reach = self.reach.min(self.best.max(0.0) + END_TIE_BAND);
+                    if end_pair_gap(a, sa, b, sb) - sag_a - sag_b > reach {
+                        deferred[i][j] = true;
+                        continue;
+                    }
+                }
+                self.end_pair((sa, sb), [rim_a[i], rim_b[j]]);
             }
         }
+        if deferred.iter().flatten().any(|&d| d) && matches!(self.verdict(), Verdict::Unsure) {
+            for (i, sa) in [1.0, -1.0].into_iter().enumerate() {
+                for (j, sb) in [1.0, -1.0].into_iter().enumerate() {
+                    if deferred[i][j] {
+                        self.end_pair((sa, sb), [rim_a[i], rim_b[j]]);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The four kernels of the end pair `(sa, sb)` (A's end, B's end);
+    /// `hints` are the ends' rim–side points, seeds of rim–rim.
+    #[inline(always)]
+    fn end_pair(&mut self, (sa, sb): (f64, f64), hints: [Option<DVec3>; 2]) {
+        let (a, b) = (self.a, self.b);
+        self.feature(face_face(a, sa, b, sb), false);
+        self.feature(rim_face(a, sa, b, sb), false);
+        self.feature(rim_face(b, sb, a, sa), true);
+        // (The best value may have dropped in this loop.)
+        let reach = self.reach.min(self.best.max(0.0) + END_TIE_BAND);
+        self.feature(rim_rim(a, sa, b, sb, hints, reach), false);
     }
 
     /// A cheap axis `±d`: an upper bound, no minimum. Of the two signs only
@@ -233,6 +265,36 @@ impl<'g> Scan<'g> {
         }
         runner
     }
+}
+
+/// Relative margin of [`end_pair_gap`] for its own rounding (lengths of
+/// the order of the fibres, computed to a few ulps).
+const GAP_ROUNDING: f64 = 1e-12;
+
+/// A lower bound of the distance between the flat end discs of `f`'s end
+/// `sf` and `o`'s end `so` (centres `e_f`, `e_o`, unit normals the axes,
+/// radii `r_f`, `r_o`; `w = e_o − e_f`, `sin θ = |a_f × a_o|`). Proof: with
+/// `x = e_f + u` (`u ⊥ a_f`, `|u| ≤ r_f`) and `p = e_o + v` (`v ⊥ a_o`,
+/// `|v| ≤ r_o`), `p − x = w + v − u`. Along `a_f`, `u` has no part and
+/// `|v·a_f| ≤ |v| |a_f − (a_f·a_o) a_o| ≤ r_o sin θ`, so that component is
+/// at least `z = |w·a_f| − r_o sin θ`; across `a_f` the component is at
+/// least `ρ = |w⊥| − r_o − r_f` (triangle inequality); the two are
+/// orthogonal, so `|p − x| ≥ √(z₊² + ρ₊²)`, and the same with the roles
+/// swapped. Each end's cap and rim lie within its sag of its disc (the cap
+/// is a graph of height in `[0, σ]` over the disc), so the distance between
+/// any points of the two ends' caps and rims is at least this minus both
+/// sags (docs/contacts.md, "End-involved kernels").
+fn end_pair_gap(f: &FibreGeom, sf: f64, o: &FibreGeom, so: f64) -> f64 {
+    let w = face_centre(o, so) - face_centre(f, sf);
+    let sin = f.axis.cross(o.axis).length();
+    let one = |u: DVec3, r_own: f64, r_other: f64| {
+        let z = w.dot(u);
+        let axial = (z.abs() - r_other * sin).max(0.0);
+        let across = ((w - z * u).length() - r_own - r_other).max(0.0);
+        (axial * axial + across * across).sqrt()
+    };
+    let gap = one(f.axis, f.radius, o.radius).max(one(o.axis, o.radius, f.radius));
+    gap - GAP_ROUNDING * (w.length() + f.radius + o.radius)
 }
 
 /// The end-involved depth (plain minimum) of `a` and `b` with its contact,
