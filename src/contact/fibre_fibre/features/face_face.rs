@@ -18,10 +18,18 @@ pub(in crate::contact::fibre_fibre) fn face_face(
     let sc = dome_centre(f, sf);
     let d = sc - dome_centre(o, so);
     let n = direction(d)?;
+    let local_min = cap_supports(o, n, so) && cap_supports(f, -n, sf);
+    // Both cap points on the bodies: n·(x_o − x_f) = R_o + R_f − |d|.
+    let lower = if local_min {
+        dome_radius(o.radius) + dome_radius(f.radius) - n.dot(d)
+    } else {
+        f64::NEG_INFINITY
+    };
     Some(Stationary {
         n,
         point: sc - dome_radius(f.radius) * n,
-        local_min: cap_supports(o, n, so) && cap_supports(f, -n, sf),
+        lower,
+        local_min,
         converged: true,
     })
 }

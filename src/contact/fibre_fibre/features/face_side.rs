@@ -24,10 +24,19 @@ pub(in crate::contact::fibre_fibre) fn face_side(
     let d = perp(s - o.centre, o.axis);
     let n = direction(d)?;
     let point = s - dome_radius(f.radius) * n;
+    let capped = cap_supports(f, -n, sf);
+    // The cap point on `f`, and `o`'s side point `c + t a + r_o n` (n ⊥ a,
+    // any t): n·(x_o − x_f) = r_o − n·(point − o.centre).
+    let lower = if capped {
+        o.radius - n.dot(point - o.centre)
+    } else {
+        f64::NEG_INFINITY
+    };
     Some(Stationary {
         n,
         point,
-        local_min: cap_supports(f, -n, sf) && between_end_planes(o, point),
+        lower,
+        local_min: capped && between_end_planes(o, point),
         converged: true,
     })
 }

@@ -52,6 +52,11 @@ pub(super) struct Stationary {
     pub(super) n: DVec3,
     /// The first feature's support point (on `f`) at `n`.
     pub(super) point: DVec3,
+    /// A lower bound of the domed projection overlap along `n`,
+    /// `n·(x_o − x_f)` for two points `x_o` of `o` and `x_f` of `f` the
+    /// kernel already has (`h_o(n) ≥ n·x_o`, `h_f(−n) ≥ −n·x_f`), or −∞:
+    /// the scan need not evaluate a direction this far above its best.
+    pub(super) lower: f64,
     /// A local minimum of the depth on the sphere (see the module doc).
     pub(super) local_min: bool,
     /// The iteration converged (always true for closed forms). A kernel

@@ -3,7 +3,7 @@
 //! nearest the dome's centre, `p = e + r d⊥/|d⊥|`, closed form.
 
 use super::{cap_supports, direction, face_centre, perp, rim_supports, Stationary};
-use crate::contact::fibre_fibre::support::dome_centre;
+use crate::contact::fibre_fibre::support::{dome_centre, dome_radius};
 use crate::contact::FibreGeom;
 use std::cmp::Ordering;
 
@@ -29,10 +29,19 @@ pub(in crate::contact::fibre_fibre) fn rim_face(
     let p = e + (f.radius / sl) * side;
     let d = p - s;
     let n = direction(d)?;
+    let capped = cap_supports(o, n, so);
+    // The rim point on `f`, `o`'s cap point `s + R_o n` when the cap
+    // supports n: n·(x_o − x_f) = R_o − |d|.
+    let lower = if capped {
+        dome_radius(o.radius) - n.dot(d)
+    } else {
+        f64::NEG_INFINITY
+    };
     Some(Stationary {
         n,
         point: p,
-        local_min: cap_supports(o, n, so) && rim_supports(f, -n, sf, p),
+        lower,
+        local_min: capped && rim_supports(f, -n, sf, p),
         converged: true,
     })
 }

@@ -300,6 +300,8 @@ pub(in crate::contact::fibre_fibre) fn rim_rim(
     Some(Stationary {
         n,
         point: p,
+        // Both rim points on the bodies.
+        lower: n.dot(d),
         local_min: converged && positive_curvature && pick.is_some(),
         converged,
     })

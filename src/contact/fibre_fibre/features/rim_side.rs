@@ -172,6 +172,7 @@ pub(in crate::contact::fibre_fibre) fn rim_side(
                     return Some(Stationary {
                         n: m,
                         point: q,
+                        lower: o.radius - m.dot(q - o.centre),
                         local_min: true,
                         converged: true,
                     });
@@ -179,9 +180,12 @@ pub(in crate::contact::fibre_fibre) fn rim_side(
             }
         }
     }
+    // The rim point on `f`, `o`'s side point `c + t a + r_o n` (n ⊥ a, any
+    // t): n·(x_o − x_f) = r_o − n·(p − o.centre).
     Some(Stationary {
         n,
         point: p,
+        lower: o.radius - n.dot(p - o.centre),
         local_min: converged && rim_supports(f, -n, sf, p) && between_end_planes(o, p),
         converged,
     })
