@@ -149,6 +149,22 @@ impl Damping {
         (&mut self.force, &mut self.torque)
     }
 
+    /// What the ledger carries from one step to the next: `[done,
+    /// dissipated]`, J. With the stage's last total force and torque per
+    /// body (the step's open reads them) this is all a damped step keeps
+    /// between steps: the loads are zeroed by every pass, and `first` is
+    /// false after the force computation of step 0 (`World::from_states`).
+    pub(crate) fn ledger_state(&self) -> [f64; 2] {
+        [self.done, self.dissipated]
+    }
+
+    /// Put back a [`Damping::ledger_state`] (resuming from a checkpoint).
+    pub(crate) fn set_ledger_state(&mut self, [done, dissipated]: [f64; 2]) {
+        self.done = done;
+        self.dissipated = dissipated;
+        self.first = false;
+    }
+
     /// Close the computation: `force` holds the stage's total contact force
     /// per body. The ledger's share and the full work (module docs).
     pub(crate) fn account(&mut self, bodies: &[Body], states: &[BodyState], force: &[DVec3]) {
