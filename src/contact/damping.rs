@@ -33,6 +33,13 @@
 //! rotation: `δt τ_k·ω`). The ledger at step k holds every earlier stage's
 //! work and the closing half-kick's share of stage k's; so `E + E_dissipated`
 //! closes as well as the elastic budget does for translation.
+//!
+//! **Checkpoint.** Between steps a damped stage carries, beyond the
+//! states, its last total force and torque per body (computed from
+//! `v_{k+½}`, which the full-step states cannot give back) and the ledger's
+//! `done` and `dissipated` ([`Damping::ledger_state`]); the loads are
+//! zeroed by every pass and `first` is false once step 0's forces exist.
+//! `src/output/checkpoint.rs` stores exactly these.
 
 use crate::body::{Body, BodyState};
 use glam::DVec3;

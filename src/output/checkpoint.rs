@@ -269,10 +269,11 @@ impl Checkpoint {
     /// The driver's part of a checkpoint of `w` (observers add theirs).
     pub fn of<R: Rotator>(w: &World, stats: &RunStats) -> Self {
         let scene = w.scene;
+        // A damped scene where nothing can touch has no stage: nothing dissipated.
         let ledger = w.contacts.as_ref().and_then(|c| c.damping_state());
-        let damping = scene.damping.zip(ledger).map(|(e, l)| DampingPart {
+        let damping = scene.damping.map(|e| DampingPart {
             restitution: [bits(e.fibre), bits(e.wall)],
-            ledger: l.map(bits),
+            ledger: ledger.unwrap_or([0.0; 2]).map(bits),
         });
         let loads = match damping {
             Some(_) => w
