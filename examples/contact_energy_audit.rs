@@ -76,7 +76,12 @@ fn main() {
     let mut w = World::new(&scene);
     let (states, aux, _) =
         fibresim::output::checkpoint::restore(&c, &scene, 0).expect("checkpoint of this scene");
+    let damped = fibresim::output::checkpoint::restore_damping(&c, &scene)
+        .expect("checkpoint of this scene");
     w.restore(states, aux, c.step);
+    if let Some(d) = damped {
+        w.restore_damping(d);
+    }
     let e0 = w.e0_full;
     let geom = |w: &World, i: usize| {
         let Shape::Fibre { diameter, length } = scene.bodies[i].shape else {

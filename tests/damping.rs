@@ -186,29 +186,3 @@ fn restitution_one_runs_exactly_as_an_elastic_scene() {
     assert_eq!(out[0], out[1]);
     assert!(!String::from_utf8_lossy(&out[0]).contains("e_dissipated"));
 }
-
-/// A damped scene cannot checkpoint yet (its forces use half-step
-/// velocities): `--checkpoint-every` is refused with exit 2, naming that flag
-/// and the fix.
-#[test]
-fn damped_scenes_refuse_checkpoints_naming_the_flag() {
-    let dir = tempfile::tempdir().unwrap();
-    let body = fibre([0.0, 0.0, 0.0175], [0.0, 0.3, 1.0], [0.0, 0.0, -1.0]);
-    let path = dir.path().join("damped.toml");
-    std::fs::write(&path, scene(1e-6, 2e-3, 0.5, &body)).unwrap();
-    let o = common::fibresim(&[
-        "run",
-        path.to_str().unwrap(),
-        "-q",
-        "--checkpoint-every",
-        "100",
-        "--out",
-        dir.path().join("o").to_str().unwrap(),
-    ]);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(
-        err.contains("--checkpoint-every") && err.contains("run without --checkpoint-every"),
-        "{err}"
-    );
-}

@@ -323,3 +323,251 @@ fn a_tampered_states_file_is_refused() {
         "{err}"
     );
 }
+
+/// `scenarios/bed_1k.toml` (1000 fibres resting in their box, 3578 contacts)
+/// with `[contact] restitution = 0.3` and the end time `t_end`, in `dir`
+/// with its body file.
+fn damped_bed(dir: &Path, t_end: &str) -> String {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios");
+    std::fs::copy(
+        root.join("bed_1k_bodies.csv"),
+        dir.join("bed_1k_bodies.csv"),
+    )
+    .unwrap();
+    let text = std::fs::read_to_string(root.join("bed_1k.toml")).unwrap();
+    assert!(text.contains("t_end = 0.002") && !text.contains("[contact]"));
+    let text = text.replace("t_end = 0.002", &format!("t_end = {t_end}"))
+        + "\n[contact]\nrestitution = 0.3\n";
+    let path = dir.join("damped.toml");
+    std::fs::write(&path, text).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+/// Without the summary's timings.
+fn strip_timings(p: &Path) -> String {
+    String::from_utf8(read_bytes(p))
+        .unwrap()
+        .lines()
+        .filter(|l| !l.contains("\"wall_") && !l.contains("ns_per_body_step"))
+        .collect()
+}
+
+/// A damped bed on two threads (the parallel force stage): checkpointed at
+/// step 200 and resumed to 400, its energy.csv (with `e_dissipated`) and
+/// summary are the bytes of the run straight to 400; resumed for no step,
+/// its summary is the one the run wrote at step 200. The states file is
+/// the format's size (header 24 B; 112 B per fibre, and the 48 B of the
+/// contact force and torque a damped step carries).
+#[test]
+fn resume_of_a_damped_bed_gives_the_same_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = damped_bed(dir.path(), "4e-4");
+    let (whole, split) = (dir.path().join("w"), dir.path().join("s"));
+    let t = ["--threads", "2", "-q", "--every", "20"];
+    let mut a = vec!["run", &scene, "--out", whole.to_str().unwrap()];
+    a.extend(t);
+    ok(fibresim(&a));
+    let mut b = vec![
+        "run",
+        &scene,
+        "--out",
+        split.to_str().unwrap(),
+        "--t-end",
+        "2e-4",
+        "--checkpoint-every",
+        "200",
+    ];
+    b.extend(t);
+    ok(fibresim(&b));
+    let ckpt = split.join("checkpoint.json");
+    let zero = dir.path().join("z");
+    resume_to(&ckpt, "2e-4", &["--out", zero.to_str().unwrap()]);
+    assert_eq!(
+        strip_timings(&split.join("summary.json")),
+        strip_timings(&zero.join("summary.json"))
+    );
+    let states = std::fs::metadata(split.join("checkpoint.states"))
+        .unwrap()
+        .len();
+    assert_eq!(states, 24 + 160 * 1000);
+    resume_to(&ckpt, "4e-4", &["--threads", "2"]);
+    let energy = read_bytes(&whole.join("energy.csv"));
+    assert!(String::from_utf8_lossy(&energy)
+        .lines()
+        .next()
+        .unwrap()
+        .ends_with(",e_dissipated"));
+    assert_eq!(energy, read_bytes(&split.join("energy.csv")));
+    assert_eq!(
+        strip_timings(&whole.join("summary.json")),
+        strip_timings(&split.join("summary.json"))
+    );
+}
+
+/// Three fibres crossed in a stack, dropped at 0.5 m/s on the floor with
+/// e = 0.3 (one thread: the serial force stage). Every contact is central,
+/// so nothing is left sliding on the frictionless walls and the stack
+/// settles (after 39 000 steps of 2 µs, tested every 1000).
+const STACK: &str = r#"
+[simulation]
+dt = 2e-6
+t_end = 1.0
+[world]
+gravity = [0.0, 0.0, -9.81]
+[box]
+min = [0.0, 0.0, 0.0]
+max = [0.1, 0.1, 0.1]
+young = 5e7
+poisson = 0.35
+[material.pa]
+density = 1100.0
+young = 5e7
+poisson = 0.35
+[contact]
+restitution = 0.3
+[[body]]
+shape = "fibre"
+diameter = 0.01
+length = 0.03
+material = "pa"
+position = [0.05, 0.05, 0.02]
+axis = [1.0, 0.0, 0.0]
+velocity = [0.0, 0.0, -0.5]
+[[body]]
+shape = "fibre"
+diameter = 0.01
+length = 0.03
+material = "pa"
+position = [0.05, 0.05, 0.045]
+axis = [0.0, 1.0, 0.0]
+velocity = [0.0, 0.0, -0.5]
+[[body]]
+shape = "fibre"
+diameter = 0.01
+length = 0.03
+material = "pa"
+position = [0.05, 0.05, 0.07]
+axis = [1.0, 0.0, 0.0]
+velocity = [0.0, 0.0, -0.5]
+"#;
+
+/// `fibresim settle` stopped before it settles, with a checkpoint at step
+/// 30 000 (two live contacts), then `settle --resume`: the same settled bed (body file), energy
+/// rows and summary as the settle run straight through; its settle test
+/// comes from the checkpoint. A settle checkpoint is not for `run --resume`.
+#[test]
+fn a_resumed_settle_writes_the_same_bed() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("stack.toml");
+    std::fs::write(&scene, STACK).unwrap();
+    let scene = scene.to_str().unwrap();
+    let p = |s: &str| dir.path().join(s).to_str().unwrap().to_string();
+    let (w, s) = (p("w"), p("s"));
+    let flags = ["--every", "1000", "-q"];
+    let mut a = vec!["settle", scene, "--check-every", "1000", "--write"];
+    let (wbed, sbed) = (p("whole.toml"), p("split.toml"));
+    a.extend([wbed.as_str(), "--out", &w]);
+    a.extend(flags);
+    ok(fibresim(&a));
+    let summary: serde_json::Value =
+        serde_json::from_slice(&read_bytes(&Path::new(&w).join("summary.json"))).unwrap();
+    assert_eq!(
+        (summary["settled"].clone(), summary["steps"].clone()),
+        (true.into(), 39000.into())
+    );
+    let mut b = vec!["settle", scene, "--check-every", "1000", "--write"];
+    b.extend([sbed.as_str(), "--out", &s, "--t-end", "0.062"]);
+    b.extend(["--checkpoint-every", "30000"]);
+    b.extend(flags);
+    let o = fibresim(&b);
+    assert_eq!(o.status.code(), Some(2), "not settled by 0.062 s");
+    let ckpt = p("s/checkpoint.json");
+    let o = fibresim(&["run", "--resume", &ckpt, "-q"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("settle --resume"));
+    ok(fibresim(&[
+        "settle", "--resume", &ckpt, "--t-end", "1", "--write", &sbed, "-q",
+    ]));
+    let bodies = |s: &str| read_bytes(&dir.path().join(s));
+    assert_eq!(bodies("whole_bodies.csv"), bodies("split_bodies.csv"));
+    assert_eq!(bodies("w/energy.csv"), bodies("s/energy.csv"));
+    assert_eq!(
+        strip_timings(&dir.path().join("w/summary.json")),
+        strip_timings(&dir.path().join("s/summary.json"))
+    );
+}
+
+/// A damped checkpoint (the stack at step 1000) and its exit-2 refusals:
+/// resumed with another restitution, a torn states file, and a checkpoint
+/// without the damping state (as fibresim wrote them before: rewritten here
+/// as such, its states file cut to the elastic layout with a matching hash).
+#[test]
+fn bad_damped_checkpoints_are_refused() {
+    use fibresim::output::checkpoint::states;
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("stack.toml");
+    std::fs::write(&scene, STACK).unwrap();
+    let out = dir.path().join("o");
+    ok(fibresim(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--t-end",
+        "0.002",
+        "--checkpoint-every",
+        "1000",
+        "-q",
+        "--out",
+        out.to_str().unwrap(),
+    ]));
+    let ckpt = out.join("checkpoint.json");
+    let ck = ckpt.to_str().unwrap();
+    let bed = dir.path().join("bed.toml");
+    let refused = |args: &[&str], want: &[&str]| {
+        let o = fibresim(args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        for w in want {
+            assert!(err.contains(w), "`{w}` not in: {err}");
+        }
+    };
+    let bed = bed.to_str().unwrap();
+    refused(
+        &[
+            "settle",
+            "--resume",
+            ck,
+            "--restitution",
+            "0.5",
+            "--write",
+            bed,
+        ],
+        &[
+            "--restitution",
+            "0.5 differs from the checkpoint's restitution 0.3",
+        ],
+    );
+    let states_path = out.join("checkpoint.states");
+    let bytes = read_bytes(&states_path);
+    assert_eq!(bytes.len(), 24 + 160 * 3);
+    std::fs::write(&states_path, &bytes[..bytes.len() - 48]).unwrap();
+    refused(
+        &["run", "--resume", ck, "-q"],
+        &["checkpoint.states", "does not belong"],
+    );
+    // The elastic layout, and a JSON without `damping`, consistent.
+    let old = &bytes[..24 + 112 * 3];
+    std::fs::write(&states_path, old).unwrap();
+    let mut json: serde_json::Value = serde_json::from_slice(&read_bytes(&ckpt)).unwrap();
+    let j = json.as_object_mut().unwrap();
+    assert!(j.remove("damping").is_some());
+    j.insert("states_bytes".into(), old.len().into());
+    j.insert(
+        "states_fnv".into(),
+        format!("{:016x}", states::fnv(old)).into(),
+    );
+    std::fs::write(&ckpt, serde_json::to_string(&json).unwrap()).unwrap();
+    refused(
+        &["run", "--resume", ck, "-q"],
+        &["no damping state", "rerun from the start"],
+    );
+}

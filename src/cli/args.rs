@@ -159,7 +159,8 @@ pub struct ReplicateArgs {
 #[derive(Debug, Args)]
 pub struct SettleArgs {
     /// Scenario TOML file (a generated bed, for example).
-    pub scenario: PathBuf,
+    #[arg(required_unless_present = "resume")]
+    pub scenario: Option<PathBuf>,
     /// Coefficient of restitution while settling (fibre-fibre and fibre-wall) [default: the scenario's [contact]].
     #[arg(long)]
     pub restitution: Option<f64>,
@@ -172,9 +173,9 @@ pub struct SettleArgs {
     /// Settled when the kinetic energy (translation + rotation) per fibre is at most this, J [default: 1e-4 x the mean m g D].
     #[arg(long)]
     pub ke_per_fibre: Option<f64>,
-    /// Test the threshold every N steps.
-    #[arg(long, default_value_t = 100)]
-    pub check_every: u64,
+    /// Test the threshold every N steps [default: 100, or the resumed checkpoint's].
+    #[arg(long)]
+    pub check_every: Option<u64>,
     /// The settled scenario to write (elastic; its body file goes beside it as <stem>_bodies.csv).
     #[arg(long)]
     pub write: PathBuf,
@@ -190,6 +191,12 @@ pub struct SettleArgs {
     /// Write one output row every N steps.
     #[arg(long)]
     pub every: Option<u64>,
+    /// Write <out>/checkpoint.json every N steps (Ctrl-C always writes one).
+    #[arg(long, allow_negative_numbers = true)]
+    pub checkpoint_every: Option<u64>,
+    /// Continue a settle from its checkpoint (its scenario, restitution, dt, cadence and settle test; --t-end may extend it; outputs go to the checkpoint's folder unless --out).
+    #[arg(long, conflicts_with_all = ["scenario", "dt", "every"])]
+    pub resume: Option<PathBuf>,
     /// Run even when dt leaves fewer than 5 steps per Hertz collision.
     #[arg(long)]
     pub allow_large_dt: bool,

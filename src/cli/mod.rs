@@ -234,9 +234,13 @@ fn settle(mut plan: plan::SettlePlan) -> Result<()> {
     let _ = ctrlc::set_handler(|| {
         crate::run::INTERRUPTED.store(true, std::sync::atomic::Ordering::Relaxed)
     });
+    if let Some((c, from)) = &plan.resume {
+        crate::run::copy_resume_outputs(c, from, &plan.opts.out_dir)?;
+    }
     let initial = std::mem::take(&mut plan.scene.initial);
     let scene = &plan.scene;
-    let s = crate::run::run_from(scene, initial, &plan.opts, None)?;
+    let resume = plan.resume.as_ref().map(|r| &r.0);
+    let s = crate::run::run_from(scene, initial, &plan.opts, resume)?;
     let settle = plan.opts.settle.expect("a settle plan has a settle test");
     let body_file = crate::generate::body_file_of(&plan.write);
     let n = scene.bodies.len() as f64;

@@ -131,24 +131,12 @@ impl RunArgs {
             }
             None => run_scene(&self)?,
         };
-        if self.checkpoint_every == Some(0) {
+        checkpoint_every_flag(self.checkpoint_every)?;
+        if checkpoint.as_ref().is_some_and(|c| c.settle.is_some()) {
             return Err(Error::bad(
                 "command line",
-                "--checkpoint-every",
-                "must be >= 1",
-            ));
-        }
-        if scene.damping.is_some() && (self.checkpoint_every.is_some() || checkpoint.is_some()) {
-            // Name the flag the user gave: a checkpoint left by Ctrl-C is
-            // refused on --resume, not on --checkpoint-every.
-            let (flag, fix) = match checkpoint {
-                Some(_) => ("--resume", "rerun the scene from its start"),
-                None => ("--checkpoint-every", "run without --checkpoint-every"),
-            };
-            return Err(Error::bad(
-                &scene.source,
-                flag,
-                format!("checkpoints of scenes with damping ([contact] restitution < 1) are not supported yet: their forces depend on the half-step velocities, which a checkpoint does not hold; {fix}"),
+                "--resume",
+                "this checkpoint is of a `fibresim settle` run; continue it with `fibresim settle --resume CHECKPOINT --write BED.toml`",
             ));
         }
         let impact = self
@@ -171,11 +159,7 @@ impl RunArgs {
             }
         }
         // The checkpoint's folder ("." for a bare `checkpoint.json`).
-        let checkpoint_dir = self.resume.as_ref().map(|p| {
-            p.parent()
-                .filter(|d| !d.as_os_str().is_empty())
-                .map_or_else(|| PathBuf::from("."), PathBuf::from)
-        });
+        let checkpoint_dir = self.resume.as_deref().map(checkpoint_dir);
         let default_out = match &checkpoint_dir {
             Some(d) => d.clone(),
             None => PathBuf::from("out")
@@ -506,6 +490,9 @@ impl GenerateArgs {
     }
 }
 
+/// `fibresim settle --check-every` unless given (or resumed).
+pub const DEFAULT_CHECK_EVERY: u64 = 100;
+
 /// `fibresim settle`, checked.
 pub struct SettlePlan {
     /// The scene, with the settling restitution, δt and end time.
@@ -522,6 +509,8 @@ pub struct SettlePlan {
     pub write_t_end: f64,
     /// No progress bar, no summary.
     pub quiet: bool,
+    /// The checkpoint to continue, and the folder it was found in.
+    pub resume: Option<(Checkpoint, PathBuf)>,
 }
 
 /// `fibresim replicate`, checked.
@@ -569,10 +558,54 @@ impl ReplicateArgs {
     }
 }
 
+/// `--checkpoint-every N`: N ≥ 1.
+fn checkpoint_every_flag(n: Option<u64>) -> Result<Option<u64>> {
+    match n {
+        Some(0) => Err(Error::bad(
+            "command line",
+            "--checkpoint-every",
+            "must be >= 1",
+        )),
+        n => Ok(n),
+    }
+}
+
+/// The folder of a checkpoint file ("." for a bare `checkpoint.json`).
+fn checkpoint_dir(p: &Path) -> PathBuf {
+    p.parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .map_or_else(|| PathBuf::from("."), PathBuf::from)
+}
+
 impl SettleArgs {
-    /// Load the scene and check the flags.
+    /// Load the scene (or the checkpoint's) and check the flags.
     pub fn plan(self) -> Result<SettlePlan> {
-        let mut scene = scenario::load(&self.scenario)?;
+        let checkpoint_every = checkpoint_every_flag(self.checkpoint_every)?;
+        let checkpoint = self.resume.as_deref().map(Checkpoint::read).transpose()?;
+        let mut scene = match &checkpoint {
+            Some(c) => crate::run::scene_from_checkpoint(c, self.t_end)?,
+            None => scenario::load(
+                self.scenario
+                    .as_deref()
+                    .expect("clap: a scenario or --resume"),
+            )?,
+        };
+        // A resumed settle keeps its restitution, and its settle test unless
+        // the flags give another (the test only decides where it stops).
+        let saved = checkpoint.as_ref().and_then(|c| c.settle.clone());
+        if let (Some(c), Some(e)) = (&checkpoint, self.restitution) {
+            let kept = c.damping.as_ref().map(|d| d.restitution()).transpose()?;
+            if kept.is_none_or(|k| k.fibre != e || k.wall != e) {
+                let was = kept.map_or("none (elastic)".to_string(), |k| {
+                    format!("{} (walls {})", k.fibre, k.wall)
+                });
+                return Err(Error::bad(
+                    "command line",
+                    "--restitution",
+                    format!("{e} differs from the checkpoint's restitution {was}: a resumed settle keeps its restitution; drop --restitution, or settle again from the start"),
+                ));
+            }
+        }
         if scene.has_prescribed_torque() {
             return Err(Error::bad(
                 &scene.source,
@@ -580,7 +613,7 @@ impl SettleArgs {
                 "a scene with prescribed torques cannot settle; remove the torques",
             ));
         }
-        if let Some(e) = self.restitution {
+        if let Some(e) = self.restitution.filter(|_| checkpoint.is_none()) {
             let e = restitution_flag("--restitution", e)?;
             scene.damping = (e < 1.0).then_some(Restitution { fibre: e, wall: e });
         }
@@ -600,6 +633,7 @@ impl SettleArgs {
         }
         let ke = match self.ke_per_fibre {
             Some(k) => positive_flag("--ke-per-fibre", k)?,
+            None if saved.is_some() => saved.as_ref().expect("checked").ke_per_fibre()?,
             None => {
                 // 1e-4 of the mean m g D (g = 9.81 m/s² without gravity).
                 let g = scene.gravity.map_or(9.81, |g| g.length());
@@ -611,7 +645,11 @@ impl SettleArgs {
                 1e-4 * sum / scene.bodies.len() as f64
             }
         };
-        if self.check_every == 0 {
+        let check_every = match (self.check_every, &saved) {
+            (None, Some(s)) => s.check_every,
+            (n, _) => n.unwrap_or(DEFAULT_CHECK_EVERY),
+        };
+        if check_every == 0 {
             return Err(Error::bad("command line", "--check-every", "must be >= 1"));
         }
         let impact = self
@@ -637,19 +675,23 @@ impl SettleArgs {
             "command line",
             "--write-",
         )?;
-        let out = self.out.unwrap_or_else(|| {
-            PathBuf::from("out")
-                .join(stem(&self.scenario))
-                .join("settle")
+        let dir = self.resume.as_deref().map(checkpoint_dir);
+        let out = self.out.or_else(|| dir.clone()).unwrap_or_else(|| {
+            let scenario = self
+                .scenario
+                .as_deref()
+                .expect("clap: a scenario or --resume");
+            PathBuf::from("out").join(stem(scenario)).join("settle")
         });
         Ok(SettlePlan {
+            resume: checkpoint.zip(dir),
             opts: RunOptions {
                 out_dir: out.clone(),
                 progress: !self.quiet,
-                checkpoint_every: None,
+                checkpoint_every,
                 settle: Some(crate::run::Settle {
                     ke_per_body: ke,
-                    every: self.check_every,
+                    every: check_every,
                 }),
                 write_bodies: Some(crate::generate::body_file_of(&self.write)),
             },

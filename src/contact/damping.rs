@@ -33,6 +33,13 @@
 //! rotation: `δt τ_k·ω`). The ledger at step k holds every earlier stage's
 //! work and the closing half-kick's share of stage k's; so `E + E_dissipated`
 //! closes as well as the elastic budget does for translation.
+//!
+//! **Checkpoint.** Between steps a damped stage carries, beyond the
+//! states, its last total force and torque per body (computed from
+//! `v_{k+½}`, which the full-step states cannot give back) and the ledger's
+//! `done` and `dissipated` ([`Damping::ledger_state`]); the loads are
+//! zeroed by every pass and `first` is false once step 0's forces exist.
+//! `src/output/checkpoint.rs` stores exactly these.
 
 use crate::body::{Body, BodyState};
 use glam::DVec3;
@@ -147,6 +154,22 @@ impl Damping {
         self.force.fill(DVec3::ZERO);
         self.torque.fill(DVec3::ZERO);
         (&mut self.force, &mut self.torque)
+    }
+
+    /// What the ledger carries from one step to the next: `[done,
+    /// dissipated]`, J. With the stage's last total force and torque per
+    /// body (the step's open reads them) this is all a damped step keeps
+    /// between steps: the loads are zeroed by every pass, and `first` is
+    /// false after the force computation of step 0 (`World::from_states`).
+    pub(crate) fn ledger_state(&self) -> [f64; 2] {
+        [self.done, self.dissipated]
+    }
+
+    /// Put back a [`Damping::ledger_state`] (resuming from a checkpoint).
+    pub(crate) fn set_ledger_state(&mut self, [done, dissipated]: [f64; 2]) {
+        self.done = done;
+        self.dissipated = dissipated;
+        self.first = false;
     }
 
     /// Close the computation: `force` holds the stage's total contact force

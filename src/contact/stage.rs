@@ -108,6 +108,21 @@ impl ContactStage {
         self.damping.as_ref().map_or(0.0, |d| d.dissipated)
     }
 
+    /// The damping ledger's state between steps (`None` without damping;
+    /// [`Damping::ledger_state`]).
+    pub fn damping_state(&self) -> Option<[f64; 2]> {
+        self.damping.as_ref().map(Damping::ledger_state)
+    }
+
+    /// Put back a [`ContactStage::damping_state`]; false when the stage has
+    /// no damping.
+    pub fn set_damping_state(&mut self, state: [f64; 2]) -> bool {
+        self.damping
+            .as_mut()
+            .map(|d| d.set_ledger_state(state))
+            .is_some()
+    }
+
     /// Neighbour-list builds so far.
     pub fn neighbour_builds(&self) -> u64 {
         self.neighbours.builds

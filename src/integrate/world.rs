@@ -99,6 +99,21 @@ impl<'s> World<'s> {
         self.ledger = self.measure();
     }
 
+    /// The rest of a damped world's checkpoint, after [`World::restore`]:
+    /// its forces came from half-step velocities, so the recomputed ones
+    /// are replaced by the stored ones, and the damping ledger is put back
+    /// (the recomputation's positions-only statistics, elastic energy and
+    /// overlaps, are the step's).
+    pub fn restore_damping(&mut self, d: crate::output::checkpoint::DampedState) {
+        if let Some(c) = &mut self.contacts {
+            assert!(c.set_damping_state(d.ledger), "the scene is damped");
+        }
+        for ((f, t), [df, dt]) in self.force.iter_mut().zip(&mut self.torque).zip(d.loads) {
+            (*f, *t) = (df, dt);
+        }
+        self.ledger = self.measure();
+    }
+
     /// The ledger of the current states.
     pub(crate) fn measure(&self) -> Ledger {
         Ledger {

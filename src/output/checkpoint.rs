@@ -5,6 +5,14 @@
 //! scenario text is embedded, so a later edit of the file cannot change a
 //! resumed run. Each observer records its output files with their lengths
 //! (cut back to them on resume) and its own state, by name.
+//!
+//! A damped scene (`[contact] restitution < 1`) also stores what its step
+//! carries between steps beyond the states: the force stage saw the
+//! half-step velocities, so its forces cannot be recomputed from the
+//! full-step states. That is the last total contact force and torque per
+//! body (48 bytes per fibre, in the states file) and the damping ledger
+//! (`done`, `dissipated`: two numbers in the JSON, with the restitution the
+//! run used). Elastic checkpoints are written as before, byte for byte.
 
 use crate::body::BodyState;
 use crate::error::{Error, Result};
@@ -13,6 +21,7 @@ use crate::integrate::step::World;
 use crate::run::observer::Observer;
 use crate::run::stats::RunStats;
 use crate::scenario::Scene;
+use glam::DVec3;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -64,6 +73,70 @@ pub struct Checkpoint {
     pub outputs: BTreeMap<String, u64>,
     /// Each observer's own state by its name, bits.
     pub observers: BTreeMap<String, Vec<String>>,
+    /// Damped scenes only: the restitution and the damping ledger.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<DampingPart>,
+    /// Damped scenes only: the last force stage's contact force and torque
+    /// per body, `[F, τ]` by body in the order of `states` (in the states file).
+    #[serde(skip)]
+    pub loads: Vec<[DVec3; 2]>,
+    /// `fibresim settle` runs only: the settle test.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub settle: Option<SettlePart>,
+}
+
+/// The settle test of a `fibresim settle` checkpoint.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct SettlePart {
+    /// The kinetic-energy threshold per fibre, J, bits.
+    pub ke_per_fibre: String,
+    /// Steps between two tests.
+    pub check_every: u64,
+}
+
+impl SettlePart {
+    /// The part of `s`.
+    pub fn of(s: crate::run::Settle) -> Self {
+        SettlePart {
+            ke_per_fibre: bits(s.ke_per_body),
+            check_every: s.every,
+        }
+    }
+
+    /// The threshold, J per fibre.
+    pub fn ke_per_fibre(&self) -> Result<f64> {
+        unbits(&self.ke_per_fibre, "settle.ke_per_fibre")
+    }
+}
+
+/// The damping part of a checkpoint's JSON (damped scenes only), bits.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct DampingPart {
+    /// The restitution the run used: fibre–fibre, fibre–wall.
+    pub restitution: [String; 2],
+    /// The damping ledger between steps: the work of every earlier force
+    /// stage, and the dissipated energy at the checkpoint's state, J.
+    pub ledger: [String; 2],
+}
+
+impl DampingPart {
+    /// The restitution, or what is wrong with it.
+    pub fn restitution(&self) -> Result<crate::contact::damping::Restitution> {
+        Ok(crate::contact::damping::Restitution {
+            fibre: unbits(&self.restitution[0], "damping.restitution")?,
+            wall: unbits(&self.restitution[1], "damping.restitution")?,
+        })
+    }
+}
+
+/// What a damped world needs besides its states to continue bit for bit
+/// ([`restore`]; `World::restore_damping`).
+#[derive(Debug, Clone)]
+pub struct DampedState {
+    /// The last force stage's total contact force and torque per body.
+    pub loads: Vec<[DVec3; 2]>,
+    /// The damping ledger (`done`, `dissipated`), J.
+    pub ledger: [f64; 2],
 }
 
 /// A float as its 16-digit hex bit pattern.
@@ -89,8 +162,9 @@ fn unbits_all(v: &[String], what: &str) -> Result<Vec<f64>> {
 /// The binary states file of a checkpoint (`checkpoint.states`): the magic
 /// `FIBRESIM`, then little-endian `u64` body count and `u64` doubles of
 /// rotator state per body, then per body its `u64` id and 13 `f64` (x, v,
-/// q as w x y z, ω_b), then the rotator state. 112 bytes per fibre for the
-/// shipped rotators; floats are their exact bits.
+/// q as w x y z, ω_b), then the rotator state; damped scenes then add per
+/// body 6 `f64` (the contact force and torque, world). 112 bytes per fibre
+/// for the shipped rotators (160 damped); floats are their exact bits.
 pub mod states {
     use crate::body::{BodyState, RotState};
     use glam::{DQuat, DVec3};
@@ -107,11 +181,11 @@ pub mod states {
         h
     }
 
-    /// The file's bytes.
-    pub fn encode(ids: &[u64], states: &[BodyState], aux: &[f64]) -> Vec<u8> {
+    /// The file's bytes (`loads`: empty, or one `[F, τ]` per body).
+    pub fn encode(ids: &[u64], states: &[BodyState], aux: &[f64], loads: &[[DVec3; 2]]) -> Vec<u8> {
         let n = states.len();
         let per = aux.len().checked_div(n).unwrap_or(0);
-        let mut out = Vec::with_capacity(24 + n * 112 + aux.len() * 8);
+        let mut out = Vec::with_capacity(24 + n * 112 + aux.len() * 8 + loads.len() * 48);
         out.extend_from_slice(MAGIC);
         out.extend_from_slice(&(n as u64).to_le_bytes());
         out.extend_from_slice(&(per as u64).to_le_bytes());
@@ -128,14 +202,20 @@ pub mod states {
         for &a in aux {
             out.extend_from_slice(&a.to_bits().to_le_bytes());
         }
+        for [f, t] in loads {
+            for x in [f.x, f.y, f.z, t.x, t.y, t.z] {
+                out.extend_from_slice(&x.to_bits().to_le_bytes());
+            }
+        }
         out
     }
 
-    /// What a states file holds: ids, states, rotator state.
-    pub type Decoded = (Vec<u64>, Vec<BodyState>, Vec<f64>);
+    /// What a states file holds: ids, states, rotator state, loads.
+    pub type Decoded = (Vec<u64>, Vec<BodyState>, Vec<f64>, Vec<[DVec3; 2]>);
 
-    /// The ids, states and rotator state of a file's bytes, or what is wrong.
-    pub fn decode(b: &[u8]) -> Result<Decoded, String> {
+    /// The ids, states, rotator state and (when `with_loads`: a damped
+    /// scene's) loads of a file's bytes, or what is wrong.
+    pub fn decode(b: &[u8], with_loads: bool) -> Result<Decoded, String> {
         let word = |at: usize| -> Result<u64, String> {
             b.get(at..at + 8)
                 .map(|w| u64::from_le_bytes(w.try_into().expect("8 bytes")))
@@ -146,7 +226,11 @@ pub mod states {
         }
         let n = word(8)? as usize;
         let per = word(16)? as usize;
-        let want = 24 + n.saturating_mul(112) + n.saturating_mul(per).saturating_mul(8);
+        let loads_per = if with_loads { 48 } else { 0 };
+        let want = 24
+            + n.saturating_mul(112)
+            + n.saturating_mul(per).saturating_mul(8)
+            + n.saturating_mul(loads_per);
         if b.len() != want {
             return Err(format!("{} bytes, expected {want} for {n} bodies", b.len()));
         }
@@ -167,7 +251,17 @@ pub mod states {
             });
         }
         let aux = (0..n * per).map(|i| f(24 + n * 112 + 8 * i)).collect();
-        Ok((ids, states, aux))
+        let at = 24 + n * 112 + n * per * 8;
+        let v = |k: usize, i: usize| f(at + 48 * k + 8 * i);
+        let loads = (0..if with_loads { n } else { 0 })
+            .map(|k| {
+                [
+                    DVec3::new(v(k, 0), v(k, 1), v(k, 2)),
+                    DVec3::new(v(k, 3), v(k, 4), v(k, 5)),
+                ]
+            })
+            .collect();
+        Ok((ids, states, aux, loads))
     }
 }
 
@@ -175,6 +269,21 @@ impl Checkpoint {
     /// The driver's part of a checkpoint of `w` (observers add theirs).
     pub fn of<R: Rotator>(w: &World, stats: &RunStats) -> Self {
         let scene = w.scene;
+        // A damped scene where nothing can touch has no stage: nothing dissipated.
+        let ledger = w.contacts.as_ref().and_then(|c| c.damping_state());
+        let damping = scene.damping.map(|e| DampingPart {
+            restitution: [bits(e.fibre), bits(e.wall)],
+            ledger: ledger.unwrap_or([0.0; 2]).map(bits),
+        });
+        let loads = match damping {
+            Some(_) => w
+                .force
+                .iter()
+                .zip(&w.torque)
+                .map(|(&f, &t)| [f, t])
+                .collect(),
+            None => vec![],
+        };
         Checkpoint {
             format: FORMAT.into(),
             scenario_source: scene.source.clone(),
@@ -197,6 +306,9 @@ impl Checkpoint {
             run_stats: stats.to_array().map(bits).to_vec(),
             outputs: BTreeMap::new(),
             observers: BTreeMap::new(),
+            damping,
+            loads,
+            settle: None,
         }
     }
 
@@ -205,7 +317,7 @@ impl Checkpoint {
     /// checkpoint: a states file without its JSON is refused by its hash.
     pub fn write(&mut self, path: &Path) -> Result<()> {
         let states_path = path.with_extension("states");
-        let bytes = states::encode(&self.ids, &self.states, &self.aux);
+        let bytes = states::encode(&self.ids, &self.states, &self.aux, &self.loads);
         self.states_file = states_path
             .file_name()
             .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
@@ -266,8 +378,8 @@ impl Checkpoint {
                 "does not belong to this checkpoint (length or hash differs): it was written by another checkpoint, or the write was interrupted; resume from a complete checkpoint",
             ));
         }
-        (c.ids, c.states, c.aux) =
-            states::decode(&bytes).map_err(|e| Error::bad(&where_, "states_file", e))?;
+        (c.ids, c.states, c.aux, c.loads) = states::decode(&bytes, c.damping.is_some())
+            .map_err(|e| Error::bad(&where_, "states_file", e))?;
         Ok(c)
     }
 
@@ -344,6 +456,57 @@ pub fn restore(
         .try_into()
         .map_err(|_| Error::bad("checkpoint", "run_stats", "needs 11 numbers"))?;
     Ok((c.states.clone(), c.aux.clone(), RunStats::from_array(stats)))
+}
+
+/// The damped part of a checkpoint of `scene` (`None` for an elastic
+/// scene), checked against it: a damped scene needs it, with the scene's
+/// restitution to the bit.
+pub fn restore_damping(c: &Checkpoint, scene: &Scene) -> Result<Option<DampedState>> {
+    let part = match (scene.damping, &c.damping) {
+        (None, None) => return Ok(None),
+        (Some(_), None) => return Err(Error::bad(
+            "checkpoint",
+            "damping",
+            "holds no damping state, but its scene is damped ([contact] restitution < 1): it was written by a fibresim that did not checkpoint damped scenes; rerun from the start",
+        )),
+        (None, Some(_)) => return Err(Error::bad(
+            "checkpoint",
+            "damping",
+            "holds a damping state, but its scene is elastic: it does not match its scenario",
+        )),
+        (Some(e), Some(part)) => {
+            let saved = part.restitution()?;
+            if saved.fibre.to_bits() != e.fibre.to_bits() || saved.wall.to_bits() != e.wall.to_bits() {
+                return Err(Error::bad(
+                    "checkpoint",
+                    "damping.restitution",
+                    format!(
+                        "was taken with restitution {} (walls {}), the resumed scene has {} (walls {}): a resumed run keeps its restitution; rerun from the start to change it",
+                        saved.fibre, saved.wall, e.fibre, e.wall
+                    ),
+                ));
+            }
+            part
+        }
+    };
+    if c.loads.len() != scene.bodies.len() {
+        return Err(Error::bad(
+            "checkpoint",
+            "states_file",
+            format!(
+                "holds {} contact loads for {} bodies",
+                c.loads.len(),
+                scene.bodies.len()
+            ),
+        ));
+    }
+    Ok(Some(DampedState {
+        loads: c.loads.clone(),
+        ledger: [
+            unbits(&part.ledger[0], "damping.ledger")?,
+            unbits(&part.ledger[1], "damping.ledger")?,
+        ],
+    }))
 }
 
 /// File name of the checkpoint inside the output folder.

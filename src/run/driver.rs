@@ -209,7 +209,11 @@ fn drive_with<'s, R: Rotator, S: Stepper<'s>>(
             }
             Some(c) => {
                 let (states, aux, restored) = checkpoint::restore(c, scene, R::Aux::LEN)?;
+                let damped = checkpoint::restore_damping(c, scene)?;
                 world.restore(states, aux, c.step);
+                if let Some(d) = damped {
+                    world.restore_damping(d);
+                }
                 stats = restored;
                 for o in observers.iter_mut() {
                     o.resume(c)?;
@@ -300,6 +304,7 @@ fn drive_with<'s, R: Rotator, S: Stepper<'s>>(
             let mut after_event = stats;
             after_event.reset_window();
             let mut c = Checkpoint::of::<R>(&world, &after_event);
+            c.settle = control.settle.map(checkpoint::SettlePart::of);
             for o in observers.iter_mut() {
                 o.checkpoint(&mut c)?;
             }

@@ -6,8 +6,8 @@ use crate::output::checkpoint::unbits;
 use crate::output::Checkpoint;
 use crate::scenario::Scene;
 
-/// Rebuild the scene a checkpoint was taken from, with its δt, rotator, cadence
-/// and guards; `t_end` overrides the original end time.
+/// Rebuild the scene a checkpoint was taken from, with its δt, rotator, cadence,
+/// guards and restitution; `t_end` overrides the original end time.
 pub fn scene_from_checkpoint(c: &Checkpoint, t_end: Option<f64>) -> Result<Scene> {
     let mut scene = crate::scenario::parse_str(&c.scenario_text, &c.scenario_source)?;
     let rotator =
@@ -31,6 +31,11 @@ pub fn scene_from_checkpoint(c: &Checkpoint, t_end: Option<f64>) -> Result<Scene
                 c.step, c.t
             ),
         ));
+    }
+    // The restitution the run used (`settle --restitution` may have set it
+    // over the scenario's), as δt and the rotator are the run's.
+    if let Some(part) = &c.damping {
+        scene.damping = Some(part.restitution()?);
     }
     scene.guards.energy_error_pct = unbits(&c.guards[0], "guards")?;
     scene.guards.overlap_ratio = unbits(&c.guards[1], "guards")?;
