@@ -18,8 +18,9 @@
 //! fibre-step per thread count, the parallel efficiency and the CPU time on
 //! T threads over that on one, the neighbour-list builds and candidate pairs
 //! per fibre, touching contacts per fibre, the stage shares (one clocked
-//! run), and the heap in use per fibre after loading and while stepping
-//! (a counting allocator wraps the system one).
+//! run), the heap in use per fibre after loading and while stepping
+//! (a counting allocator wraps the system one), and the allocations of the
+//! timed steps (the most of any run: a settled bed should make none).
 
 use fibresim::integrate::rotate::{Rotator, RotatorVisitor};
 use fibresim::integrate::step::{StageTimes, World};
@@ -28,15 +29,18 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
-/// The system allocator, counting the bytes in use and their peak.
+/// The system allocator, counting the bytes in use, their peak, and the
+/// allocations (`alloc` and `realloc` calls).
 struct Counting;
 
 static IN_USE: AtomicUsize = AtomicUsize::new(0);
 static PEAK: AtomicUsize = AtomicUsize::new(0);
+static ALLOCS: AtomicUsize = AtomicUsize::new(0);
 
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, l: Layout) -> *mut u8 {
         let p = unsafe { System.alloc(l) };
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
         if !p.is_null() {
             let now = IN_USE.fetch_add(l.size(), Ordering::Relaxed) + l.size();
             PEAK.fetch_max(now, Ordering::Relaxed);
@@ -49,6 +53,7 @@ unsafe impl GlobalAlloc for Counting {
     }
     unsafe fn realloc(&self, p: *mut u8, l: Layout, new: usize) -> *mut u8 {
         let q = unsafe { System.realloc(p, l, new) };
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
         if !q.is_null() {
             if new > l.size() {
                 let now = IN_USE.fetch_add(new - l.size(), Ordering::Relaxed) + new - l.size();
@@ -179,28 +184,31 @@ fn main() {
             .num_threads(t)
             .build()
             .unwrap();
-        let (samples, cpu, world): (Vec<f64>, Vec<f64>, usize) = pool.install(|| {
-            let (mut samples, mut cpu, mut world) = (vec![], vec![], 0);
-            for _ in 0..repeats {
-                let base = IN_USE.load(Ordering::Relaxed);
-                let mut w = World::new(&scene);
-                scene.sim.rotator().visit(Steps(&mut w, 2)); // warm the buffers
-                let (start, cpu0) = (Instant::now(), cpu_seconds());
-                scene.sim.rotator().visit(Steps(&mut w, steps));
-                let fibre_steps = (steps * n as u64) as f64;
-                samples.push(fibre_steps / start.elapsed().as_secs_f64());
-                cpu.push(1e9 * (cpu_seconds() - cpu0) / fibre_steps);
-                // The world's heap on t threads (the pool's blocks included).
-                world = world.max(IN_USE.load(Ordering::Relaxed) - base);
-            }
-            (samples, cpu, world)
-        });
+        let (samples, cpu, world, allocs): (Vec<f64>, Vec<f64>, usize, usize) =
+            pool.install(|| {
+                let (mut samples, mut cpu, mut world, mut allocs) = (vec![], vec![], 0, 0);
+                for _ in 0..repeats {
+                    let base = IN_USE.load(Ordering::Relaxed);
+                    let mut w = World::new(&scene);
+                    scene.sim.rotator().visit(Steps(&mut w, 2)); // warm the buffers
+                    let (start, cpu0) = (Instant::now(), cpu_seconds());
+                    let allocs0 = ALLOCS.load(Ordering::Relaxed);
+                    scene.sim.rotator().visit(Steps(&mut w, steps));
+                    allocs = allocs.max(ALLOCS.load(Ordering::Relaxed) - allocs0);
+                    let fibre_steps = (steps * n as u64) as f64;
+                    samples.push(fibre_steps / start.elapsed().as_secs_f64());
+                    cpu.push(1e9 * (cpu_seconds() - cpu0) / fibre_steps);
+                    // The world's heap on t threads (the pool's blocks included).
+                    world = world.max(IN_USE.load(Ordering::Relaxed) - base);
+                }
+                (samples, cpu, world, allocs)
+            });
         let (m, c) = (median(samples), median(cpu));
         rates.push((t, m));
         cpus.push((t, c));
         worlds.push((t, world));
         println!(
-            "threads {t}: median {:.3} M fibre-steps/s, {c:.0} ns of CPU per fibre-step ({repeats} runs of {steps} steps); world heap {:.0} B/fibre",
+            "threads {t}: median {:.3} M fibre-steps/s, {c:.0} ns of CPU per fibre-step ({repeats} runs of {steps} steps); world heap {:.0} B/fibre; {allocs} allocations in {steps} steps (the most of any run)",
             m / 1e6,
             world as f64 / n as f64
         );
