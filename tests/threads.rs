@@ -56,6 +56,24 @@ fn damped_output_bytes_do_not_depend_on_the_thread_count() {
     );
 }
 
+/// A settled random bed (`scenarios/bed_1k.toml`, 100 steps): its
+/// end-involved contacts include blended ties, whose points carry the
+/// weight's couple (slots.rs keeps those apart), which the lattice above
+/// has none of.
+#[test]
+fn bed_output_bytes_do_not_depend_on_the_thread_count() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios");
+    let text = std::fs::read_to_string(root.join("bed_1k.toml"))
+        .unwrap()
+        .replace("t_end = 0.002", "t_end = 1e-4")
+        .replace(
+            "file = \"bed_1k_bodies.csv\"",
+            &format!("file = {:?}", root.join("bed_1k_bodies.csv")),
+        );
+    assert!(text.contains("t_end = 1e-4") && text.contains("scenarios"));
+    same_bytes_with_any_thread_count(&text);
+}
+
 /// Runs `text` with 1, 2, 4 and `RAYON_NUM_THREADS=3` threads, asserts the
 /// same bytes, and returns the one-thread `energy.csv`.
 fn same_bytes_with_any_thread_count(text: &str) -> String {
