@@ -5,7 +5,7 @@
 mod common;
 use common::{fibresim, ok, read_bytes, resume_to};
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// A fibre dropped at 30° close to the floor: it hits the floor within T.
@@ -252,19 +252,7 @@ fn resume_of_a_dense_scene_gives_the_same_bytes() {
     let mut a = vec!["run", scene, "--out", whole.to_str().unwrap()];
     a.extend(t);
     ok(fibresim(&a));
-    let mut b = vec![
-        "run",
-        scene,
-        "--out",
-        split.to_str().unwrap(),
-        "--t-end",
-        "3e-4",
-        "--checkpoint-every",
-        "300",
-    ];
-    b.extend(t);
-    ok(fibresim(&b));
-    let ckpt = split.join("checkpoint.json");
+    let ckpt = run_checkpointed(scene, &split, "3e-4", "300", &t);
     let states = std::fs::metadata(split.join("checkpoint.states"))
         .unwrap()
         .len();
@@ -277,16 +265,9 @@ fn resume_of_a_dense_scene_gives_the_same_bytes() {
         read_bytes(&whole.join("energy.csv")),
         read_bytes(&split.join("energy.csv"))
     );
-    let strip = |p: &Path| -> String {
-        String::from_utf8(read_bytes(p))
-            .unwrap()
-            .lines()
-            .filter(|l| !l.contains("\"wall_") && !l.contains("ns_per_body_step"))
-            .collect()
-    };
     assert_eq!(
-        strip(&whole.join("summary.json")),
-        strip(&split.join("summary.json"))
+        strip_timings(&whole.join("summary.json")),
+        strip_timings(&split.join("summary.json"))
     );
 }
 
@@ -298,23 +279,12 @@ fn a_tampered_states_file_is_refused() {
     let scene = dir.path().join("s.toml");
     std::fs::write(&scene, DROP).unwrap();
     let out = dir.path().join("o");
-    ok(fibresim(&[
-        "run",
-        scene.to_str().unwrap(),
-        "--t-end",
-        "0.001",
-        "--checkpoint-every",
-        "500",
-        "-q",
-        "--out",
-        out.to_str().unwrap(),
-    ]));
+    let ckpt = run_checkpointed(scene.to_str().unwrap(), &out, "0.001", "500", &["-q"]);
     let states = out.join("checkpoint.states");
     let mut bytes = read_bytes(&states);
     let last = bytes.len() - 1;
     bytes[last] ^= 1;
     std::fs::write(&states, bytes).unwrap();
-    let ckpt = out.join("checkpoint.json");
     let o = fibresim(&["run", "--resume", ckpt.to_str().unwrap(), "-q"]);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
@@ -343,6 +313,24 @@ fn damped_bed(dir: &Path, t_end: &str) -> String {
     path.to_str().unwrap().to_string()
 }
 
+/// `fibresim run SCENE --out OUT --t-end T_END --checkpoint-every EVERY
+/// EXTRA…`, which must succeed; returns its checkpoint's path.
+fn run_checkpointed(scene: &str, out: &Path, t_end: &str, every: &str, extra: &[&str]) -> PathBuf {
+    let mut a = vec![
+        "run",
+        scene,
+        "--out",
+        out.to_str().unwrap(),
+        "--t-end",
+        t_end,
+        "--checkpoint-every",
+        every,
+    ];
+    a.extend(extra);
+    ok(fibresim(&a));
+    out.join("checkpoint.json")
+}
+
 /// Without the summary's timings.
 fn strip_timings(p: &Path) -> String {
     String::from_utf8(read_bytes(p))
@@ -367,19 +355,7 @@ fn resume_of_a_damped_bed_gives_the_same_bytes() {
     let mut a = vec!["run", &scene, "--out", whole.to_str().unwrap()];
     a.extend(t);
     ok(fibresim(&a));
-    let mut b = vec![
-        "run",
-        &scene,
-        "--out",
-        split.to_str().unwrap(),
-        "--t-end",
-        "2e-4",
-        "--checkpoint-every",
-        "200",
-    ];
-    b.extend(t);
-    ok(fibresim(&b));
-    let ckpt = split.join("checkpoint.json");
+    let ckpt = run_checkpointed(&scene, &split, "2e-4", "200", &t);
     let zero = dir.path().join("z");
     resume_to(&ckpt, "2e-4", &["--out", zero.to_str().unwrap()]);
     assert_eq!(
@@ -508,18 +484,7 @@ fn bad_damped_checkpoints_are_refused() {
     let scene = dir.path().join("stack.toml");
     std::fs::write(&scene, STACK).unwrap();
     let out = dir.path().join("o");
-    ok(fibresim(&[
-        "run",
-        scene.to_str().unwrap(),
-        "--t-end",
-        "0.002",
-        "--checkpoint-every",
-        "1000",
-        "-q",
-        "--out",
-        out.to_str().unwrap(),
-    ]));
-    let ckpt = out.join("checkpoint.json");
+    let ckpt = run_checkpointed(scene.to_str().unwrap(), &out, "0.002", "1000", &["-q"]);
     let ck = ckpt.to_str().unwrap();
     let bed = dir.path().join("bed.toml");
     let refused = |args: &[&str], want: &[&str]| {
