@@ -218,6 +218,9 @@ impl<'g> Scan<'g> {
     /// A feature kernel's answer; `from_b` when the kernel's first body is
     /// B (its direction then points from A to B: the force on A is −n).
     /// Returns the kernel's support point on its first body, if any.
+    /// (Inlined: called out of line, each answer went through memory, ~30
+    /// instructions a call.)
+    #[inline(always)]
     fn feature(&mut self, st: Option<Stationary>, from_b: bool) -> Option<DVec3> {
         let st = st?;
         self.failed |= !st.converged;
