@@ -72,7 +72,9 @@ pub(in crate::contact::fibre_fibre) fn rim_point_nearest_line(
 
 /// [`rim_point_nearest_line`]'s iteration, from the sampled start or, with
 /// `away`, from the rim point opposite `away` (the other minimum's basin).
-#[inline]
+/// (Inlined: out of line its arguments and answer went through memory,
+/// ~40 instructions a call, and `away = None` is then folded.)
+#[inline(always)]
 fn rim_point_stationary(
     e: DVec3,
     u: DVec3,
