@@ -149,7 +149,9 @@ fn rim_point_stationary(
 /// supported there, to the distance's other local minimum if it is). A
 /// local minimum when `f`'s support towards `o` along it is that rim point
 /// (the line is outside the rim circle's projection) and the point lies
-/// between `o`'s end planes.
+/// between `o`'s end planes. (Inlined into the scan: out of line its
+/// answer went through memory.)
+#[inline(always)]
 pub(in crate::contact::fibre_fibre) fn rim_side(
     f: &FibreGeom,
     sf: f64,
