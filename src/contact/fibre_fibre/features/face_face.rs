@@ -9,6 +9,8 @@ use crate::contact::FibreGeom;
 /// Face of `f`'s end `sf` against the face of `o`'s end `so`: the line of
 /// the dome centres, from `o`'s towards `f`'s. A local minimum when both
 /// supports along it are those caps (the faces within 2θc of antiparallel).
+// (Inlined into the scan: out of line its answer went through memory.)
+#[inline(always)]
 pub(in crate::contact::fibre_fibre) fn face_face(
     f: &FibreGeom,
     sf: f64,

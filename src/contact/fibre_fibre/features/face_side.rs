@@ -11,6 +11,9 @@ use crate::contact::FibreGeom;
 /// supported along a direction ⊥ `o`'s axis (`|a_f·a_o| ≤ sin θc`) or when
 /// the dome centre is on `o`'s axis. A local minimum when `f`'s support
 /// along it is the cap and that cap point lies between `o`'s end planes.
+// (Inlined into the scan: most calls end at the first test, and out of
+// line every answer went through memory.)
+#[inline(always)]
 pub(in crate::contact::fibre_fibre) fn face_side(
     f: &FibreGeom,
     sf: f64,

@@ -12,6 +12,8 @@ use std::cmp::Ordering;
 /// `None` when `s` lies over `f`'s face (`|d⊥| ≤ r`: the face, not the rim,
 /// faces it) or on `f`'s axis. A local minimum when `o`'s support along
 /// the direction is its cap and `f`'s the rim point.
+// (Inlined into the scan: out of line its answer went through memory.)
+#[inline(always)]
 pub(in crate::contact::fibre_fibre) fn rim_face(
     f: &FibreGeom,
     sf: f64,

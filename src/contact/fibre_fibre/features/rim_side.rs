@@ -72,7 +72,9 @@ pub(in crate::contact::fibre_fibre) fn rim_point_nearest_line(
 
 /// [`rim_point_nearest_line`]'s iteration, from the sampled start or, with
 /// `away`, from the rim point opposite `away` (the other minimum's basin).
-#[inline]
+/// (Inlined: out of line its arguments and answer went through memory,
+/// ~40 instructions a call, and `away = None` is then folded.)
+#[inline(always)]
 fn rim_point_stationary(
     e: DVec3,
     u: DVec3,
@@ -147,7 +149,9 @@ fn rim_point_stationary(
 /// supported there, to the distance's other local minimum if it is). A
 /// local minimum when `f`'s support towards `o` along it is that rim point
 /// (the line is outside the rim circle's projection) and the point lies
-/// between `o`'s end planes.
+/// between `o`'s end planes. (Inlined into the scan: out of line its
+/// answer went through memory.)
+#[inline(always)]
 pub(in crate::contact::fibre_fibre) fn rim_side(
     f: &FibreGeom,
     sf: f64,
