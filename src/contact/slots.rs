@@ -1,11 +1,16 @@
 //! The force stage on many threads, with the bits of one: every candidate
 //! (pair or wall) is computed once, in parallel, into a slot of its block
-//! (a fixed partition of the candidate list, kept between steps); then
-//! each body gathers its slots in the order the serial stage sums them
-//! (its walls, then its pairs in sorted order, each pair's points in
-//! order), and the scene statistics are reduced in that order too. Forces,
-//! torques and energies are therefore bit-identical to the serial stage,
-//! whatever the thread count.
+//! (a fixed partition of the candidate list); then each body adds its slots
+//! in the order the serial stage sums them, and the scene statistics are
+//! reduced in that order too. Forces, torques and energies are therefore
+//! bit-identical to the serial stage, whatever the thread count.
+//!
+//! The serial order of a body's sum is the candidate list's: its walls
+//! (the list is body-major), then its pairs in sorted `(i, j)` order (its
+//! side-B pairs `(i, b)`, `i < b`, all come before its own row). So the
+//! list can be computed a window of blocks at a time, each window's loads
+//! added before the next is computed: only one window's slots are held,
+//! not the whole list's (issue 10 item 7).
 
 use super::broad::NeighbourList;
 use super::damping::{Damping, DampingView};
@@ -38,16 +43,23 @@ struct PointLoad {
 /// balance the end-involved pairs' 10× cost spread.
 pub(super) const BLOCK: usize = 256;
 
+/// Blocks per window: the candidates computed before their loads are
+/// added (8192). A window holds ~0.3 MB of slots in a settled bed; more
+/// windows cost a barrier each and their last block's wait for the other
+/// threads. The bits do not depend on it (nor on [`BLOCK`]).
+const WINDOW: usize = 32;
+
 /// The touching candidates of one block of a candidate list, computed on one
-/// thread and kept between steps: which candidates touch (a bit each; a
-/// hit's index is the count of set bits before it), per hit the end of its
-/// points, all points in candidate order, the couples of the few points
-/// whose weight has a gradient (by point index; the others' couple is zero,
-/// and `x + (±0)` adds nothing to a sum that starts at +0), the points'
-/// damping forces (empty without damping), and the block's share of the
-/// statistics (touching count and largest overlap; the elastic energy is
-/// summed over the blocks in order afterwards). The buffers are trimmed
-/// with hysteresis ([`trim`]), so a settled scene steps without allocating.
+/// thread: which candidates touch (a bit each; a hit's index is the count
+/// of set bits before it), per hit the end of its points, all points in
+/// candidate order, the couples of the few points whose weight has a
+/// gradient (by point index; the others' couple is zero, and `x + (±0)`
+/// adds nothing to a sum that starts at +0), the points' damping forces
+/// (empty without damping), and the block's share of the statistics
+/// (touching count and largest overlap; the elastic energy is summed over
+/// the blocks in order afterwards). A block serves every window of a step;
+/// its buffers are trimmed to the step's largest use with hysteresis
+/// ([`trim`]), so a settled scene steps without allocating.
 #[derive(Debug, Clone, Default)]
 struct Block {
     touched: [u64; BLOCK / 64],
@@ -56,88 +68,40 @@ struct Block {
     couples: Vec<(u16, DVec3)>,
     damp: Vec<DVec3>,
     stats: ContactStats,
+    /// The largest lengths of `ends`, `points`, `couples`, `damp` in this
+    /// step's windows (what [`Block::trim`] keeps).
+    high: [usize; 4],
 }
 
-/// For each body, its candidates in the serial stage's order (rebuilt with
-/// the neighbour list): its walls (the list is body-major), the pairs it is
-/// side B of (sorted by side A), then its own row of pairs (the list is
-/// sorted `(i, j)`, so a body's side-A pairs are contiguous).
-#[derive(Debug, Clone, Default)]
-struct Incidence {
-    /// Per body, the range of its wall candidates (`walls[b]..walls[b+1]`).
-    walls: Vec<u32>,
-    /// Per body, the range of its row (side A) in the pair list.
-    rows: Vec<u32>,
-    /// Per body, the range of its entries in `side_b`.
-    b_start: Vec<u32>,
-    /// The pairs each body is side B of, ascending.
-    side_b: Vec<u32>,
-    /// The neighbour-list build this was made for.
-    build: u64,
-}
-
-/// The parallel stage's buffers, kept between steps.
-#[derive(Debug, Clone, Default)]
+/// The parallel stage's buffers, kept between steps: one window's blocks
+/// of wall and of pair candidates (all of them when the stage keeps every
+/// hit for [`Slots::for_each_hit`]), and how many the last window used.
+#[derive(Debug, Clone)]
 pub(crate) struct Slots {
-    incidence: Incidence,
     wall_blocks: Vec<Block>,
     pair_blocks: Vec<Block>,
+    used: (usize, usize),
+    /// Blocks per window ([`WINDOW`]; tests make it smaller).
+    pub(super) window: usize,
 }
 
-/// Per body `0..n`, the start of its entries among `keys` (ascending),
-/// and the end: `n + 1` offsets (CSR).
-fn offsets(n: usize, keys: impl Iterator<Item = u32>, out: &mut Vec<u32>) {
-    out.clear();
-    out.resize(n + 1, 0);
-    for k in keys {
-        out[k as usize + 1] += 1;
-    }
-    for b in 0..n {
-        out[b + 1] += out[b];
-    }
-}
-
-impl Incidence {
-    fn rebuild(&mut self, n: usize, list: &NeighbourList) {
-        assert!(
-            list.pairs.len() <= u32::MAX as usize,
-            "fewer than 2^32 candidate pairs"
-        );
-        // The serial order the gather reproduces rests on these.
-        assert!(
-            list.pairs.iter().all(|&(i, j)| i < j) && list.pairs.is_sorted(),
-            "pairs (i < j), sorted"
-        );
-        assert!(
-            list.walls.is_sorted_by_key(|w| w.0),
-            "wall candidates body-major"
-        );
-        offsets(n, list.walls.iter().map(|w| w.0), &mut self.walls);
-        offsets(n, list.pairs.iter().map(|p| p.0), &mut self.rows);
-        offsets(n, list.pairs.iter().map(|p| p.1), &mut self.b_start);
-        // Pushing each pair to its side B in list order gives each body
-        // its side-B pairs in the serial order (ascending side A).
-        self.side_b.clear();
-        self.side_b.resize(list.pairs.len(), 0);
-        let mut fill = self.b_start.clone();
-        for (k, &(_, j)) in list.pairs.iter().enumerate() {
-            let at = &mut fill[j as usize];
-            self.side_b[*at as usize] = k as u32;
-            *at += 1;
+impl Default for Slots {
+    fn default() -> Self {
+        Slots {
+            wall_blocks: vec![],
+            pair_blocks: vec![],
+            used: (0, 0),
+            window: WINDOW,
         }
-        // Exact sizes: rebuilt only with the list, kept in between.
-        self.side_b.shrink_to_fit();
-        self.build = list.builds;
     }
 }
 
-/// Release what `v` holds beyond its length with hysteresis: keep up to
-/// 1/8 (+8) spare, else cut back to 1/16 (+4) spare. A block's count moves
-/// by a few per step in a settled scene, which the spare absorbs, so such
-/// a scene steps without allocating; a block that grows past it
+/// Release what `v` holds beyond a use of `len` with hysteresis: keep up
+/// to 1/8 (+8) spare, else cut back to 1/16 (+4) spare. A block's count
+/// moves by a few per step in a settled scene, which the spare absorbs, so
+/// such a scene steps without allocating; a block that grows past it
 /// reallocates once (Vec's doubling, then this trim).
-fn trim<T>(v: &mut Vec<T>) {
-    let len = v.len();
+fn trim<T>(v: &mut Vec<T>, len: usize) {
     if v.capacity() > len + len / 8 + 8 {
         v.shrink_to(len + len / 16 + 4);
     }
@@ -198,21 +162,6 @@ impl Block {
         self.ends.push(index(self.points.len()));
     }
 
-    /// The points of candidate `k` (index in the block), if it touches.
-    #[inline]
-    fn hit(&self, k: usize) -> Option<std::ops::Range<usize>> {
-        let (word, bit) = (k / 64, k % 64);
-        if self.touched[word] & (1 << bit) == 0 {
-            return None;
-        }
-        let below = self.touched[..word]
-            .iter()
-            .map(|w| w.count_ones())
-            .sum::<u32>()
-            + (self.touched[word] & ((1 << bit) - 1)).count_ones();
-        Some(self.range(below as usize))
-    }
-
     /// The points of hit `s` (in block order).
     #[inline]
     fn range(&self, s: usize) -> std::ops::Range<usize> {
@@ -220,7 +169,17 @@ impl Block {
         start..self.ends[s] as usize
     }
 
+    /// Ready for the next window (its use noted for [`Block::trim`]).
     fn clear(&mut self) {
+        let lens = [
+            self.ends.len(),
+            self.points.len(),
+            self.couples.len(),
+            self.damp.len(),
+        ];
+        for (h, l) in self.high.iter_mut().zip(lens) {
+            *h = (*h).max(l);
+        }
         self.touched = [0; BLOCK / 64];
         self.ends.clear();
         self.points.clear();
@@ -229,11 +188,29 @@ impl Block {
         self.stats = ContactStats::default();
     }
 
+    /// At the end of a step: release what the step's windows did not use.
     fn trim(&mut self) {
-        trim(&mut self.ends);
-        trim(&mut self.points);
-        trim(&mut self.couples);
-        trim(&mut self.damp);
+        self.clear();
+        let [e, p, c, d] = std::mem::take(&mut self.high);
+        trim(&mut self.ends, e);
+        trim(&mut self.points, p);
+        trim(&mut self.couples, c);
+        trim(&mut self.damp, d);
+    }
+
+    /// Each hit's candidate (index in the block), in order.
+    #[inline]
+    fn hits(&self) -> impl Iterator<Item = usize> + '_ {
+        self.touched.iter().enumerate().flat_map(|(w, &word)| {
+            let mut bits = word;
+            std::iter::from_fn(move || {
+                (bits != 0).then(|| {
+                    let k = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    64 * w + k
+                })
+            })
+        })
     }
 }
 
@@ -250,17 +227,21 @@ thread_local! {
     static BUF: std::cell::RefCell<Vec<ContactPoint>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
-/// Compute every candidate of `candidates` into `blocks` (one per
-/// [`BLOCK`] candidates, on the pool); returns the kernels' counts.
-/// `eval(k, candidate, buffer, counters, block)` pushes candidate `k`'s hit
-/// to the block if it touches.
+/// Compute every candidate of `candidates` into the first of `blocks` (one
+/// per [`BLOCK`] candidates, on the pool; more are made if needed); returns
+/// how many blocks it used and the kernels' counts. `eval(k, candidate,
+/// buffer, counters, block)` pushes candidate `k`'s hit to the block if it
+/// touches.
 fn compute_blocks<T: Sync>(
     candidates: &[T],
     blocks: &mut Vec<Block>,
     eval: impl Fn(usize, &T, &mut Vec<ContactPoint>, &mut KernelCounters, &mut Block) + Sync,
-) -> KernelCounters {
-    blocks.resize_with(candidates.len().div_ceil(BLOCK), Block::default);
-    blocks
+) -> (usize, KernelCounters) {
+    let used = candidates.len().div_ceil(BLOCK);
+    if blocks.len() < used {
+        blocks.resize_with(used, Block::default);
+    }
+    let counters = blocks[..used]
         .par_iter_mut()
         .zip(candidates.par_chunks(BLOCK))
         .with_min_len(1)
@@ -273,10 +254,10 @@ fn compute_blocks<T: Sync>(
                     eval(k, c, buf, &mut counters, block);
                 }
             });
-            block.trim();
             counters
         })
-        .reduce(KernelCounters::default, |a, b| a + b)
+        .reduce(KernelCounters::default, |a, b| a + b);
+    (used, counters)
 }
 
 /// The loads of one kind a contact point puts on its two bodies: a force
@@ -310,99 +291,109 @@ impl Load for DampingPart {
     }
 }
 
-/// The hits of one computation, indexed per body.
-struct Gather<'a> {
-    inc: &'a Incidence,
-    geoms: &'a [FibreGeom],
-    wall_blocks: &'a [Block],
-    pair_blocks: &'a [Block],
-}
-
-/// Add to `(f, t)` the loads `L` of candidate `c`'s hit, if it has one, on
-/// a body centred at `centre` (side A: `sign` +1, side B: −1), point by
-/// point as the serial stage does: `F`, then `(p − c) × F (+ couple)`.
+/// Add the loads `L` of a window's `blocks` to the sums of the bodies
+/// `lo..lo + force.len()`, point by point in candidate order as the serial
+/// stage does: side A `+F` and `+((p − c) × F + couple)`, side B minus
+/// those, with `c` the body's own centre. `bodies(c)` are candidate `c`'s
+/// body A and body B (none for a wall).
 #[inline]
-fn add<L: Load>(
+fn add_window<L: Load>(
     blocks: &[Block],
-    c: usize,
-    centre: DVec3,
-    side_a: bool,
-    f: &mut DVec3,
-    t: &mut DVec3,
+    bodies: &impl Fn(usize) -> (usize, Option<usize>),
+    geoms: &[FibreGeom],
+    lo: usize,
+    force: &mut [DVec3],
+    torque: &mut [DVec3],
 ) {
-    let block = &blocks[c / BLOCK];
-    let Some(range) = block.hit(c % BLOCK) else {
-        return;
+    let len = force.len();
+    // `Some(index in the range)` when body `i` is in it.
+    let local = |i: usize| {
+        let k = i.wrapping_sub(lo);
+        (k < len).then_some(k)
     };
-    let mut next = if L::COUPLES && !block.couples.is_empty() {
-        block
-            .couples
-            .partition_point(|e| (e.0 as usize) < range.start)
-    } else {
-        block.couples.len()
-    };
-    for i in range {
-        let force = L::force(block, i);
-        let mut torque = (block.points[i].point - centre).cross(force);
-        if L::COUPLES {
-            if let Some(&(j, couple)) = block.couples.get(next) {
-                if j as usize == i {
-                    torque += couple;
-                    next += 1;
+    for (n, block) in blocks.iter().enumerate() {
+        let mut next = 0;
+        for (s, k) in block.hits().enumerate() {
+            let (a, b) = bodies(n * BLOCK + k);
+            let (la, lb) = (local(a), b.and_then(local));
+            if la.is_none() && lb.is_none() {
+                continue;
+            }
+            for i in block.range(s) {
+                let force_i = L::force(block, i);
+                let p = block.points[i].point;
+                let mut couple = None;
+                if L::COUPLES {
+                    while block.couples.get(next).is_some_and(|e| (e.0 as usize) < i) {
+                        next += 1;
+                    }
+                    if let Some(&(j, c)) = block.couples.get(next) {
+                        if j as usize == i {
+                            couple = Some(c);
+                        }
+                    }
+                }
+                let torque_on = |body: usize| {
+                    let t = (p - geoms[body].centre).cross(force_i);
+                    couple.map_or(t, |c| t + c)
+                };
+                if let Some(k) = la {
+                    force[k] += force_i;
+                    torque[k] += torque_on(a);
+                }
+                if let (Some(k), Some(b)) = (lb, b) {
+                    force[k] -= force_i;
+                    torque[k] -= torque_on(b);
                 }
             }
         }
-        if side_a {
-            *f += force;
-            *t += torque;
-        } else {
-            *f -= force;
-            *t -= torque;
-        }
     }
 }
 
-impl Gather<'_> {
-    /// Each body's sum of its loads `L`, in the serial order: its walls,
-    /// then its pairs in sorted order (side B of pairs `(i, b)`, then its
-    /// own row `(b, j)`), each hit's points in order.
-    fn sum<L: Load>(&self, force: &mut [DVec3], torque: &mut [DVec3]) {
-        let inc = self.inc;
-        force
-            .par_iter_mut()
-            .zip(torque.par_iter_mut())
-            .enumerate()
-            .for_each(|(b, (f, t))| {
-                let centre = self.geoms[b].centre;
-                let (mut fb, mut tb) = (DVec3::ZERO, DVec3::ZERO);
-                for w in inc.walls[b]..inc.walls[b + 1] {
-                    add::<L>(self.wall_blocks, w as usize, centre, true, &mut fb, &mut tb);
-                }
-                let side_b = inc.b_start[b] as usize..inc.b_start[b + 1] as usize;
-                for &c in &inc.side_b[side_b] {
-                    add::<L>(
-                        self.pair_blocks,
-                        c as usize,
-                        centre,
-                        false,
-                        &mut fb,
-                        &mut tb,
-                    );
-                }
-                for c in inc.rows[b]..inc.rows[b + 1] {
-                    add::<L>(self.pair_blocks, c as usize, centre, true, &mut fb, &mut tb);
-                }
-                *f = fb;
-                *t = tb;
-            });
+/// [`add_window`] on the pool: the bodies cut into one contiguous range
+/// per thread, each range's thread reading the whole window (a body's sum
+/// is the same whichever thread makes it).
+fn gather<L: Load>(
+    blocks: &[Block],
+    bodies: &(impl Fn(usize) -> (usize, Option<usize>) + Sync),
+    geoms: &[FibreGeom],
+    force: &mut [DVec3],
+    torque: &mut [DVec3],
+) {
+    let len = force.len().div_ceil(rayon::current_num_threads()).max(1);
+    force
+        .par_chunks_mut(len)
+        .zip(torque.par_chunks_mut(len))
+        .enumerate()
+        .for_each(|(r, (f, t))| add_window::<L>(blocks, bodies, geoms, r * len, f, t));
+}
+
+/// Add a window's statistics to `stats` in the serial order: the blocks'
+/// counts and first largest overlaps, then the energy point by point (a
+/// sum of partial sums would round differently).
+fn reduce(blocks: &[Block], stats: &mut ContactStats) {
+    for part in blocks.iter().map(|b| &b.stats) {
+        stats.touching += part.touching;
+        stats.note_overlap(part.max_overlap_ratio, part.max_overlap_body);
     }
+    for p in blocks.iter().flat_map(|b| &b.points) {
+        stats.elastic += p.energy;
+    }
+}
+
+/// The windows of a candidate list: `(first candidate, candidates)`.
+fn windows<T>(list: &[T], window: usize) -> impl Iterator<Item = (usize, &[T])> {
+    list.chunks(window)
+        .enumerate()
+        .map(move |(w, c)| (w * window, c))
 }
 
 impl Slots {
-    /// The contact forces and torques of every body, and the scene
-    /// statistics, bit for bit as the serial stage computes them; with
-    /// `damping` (and the velocities in `states`), the damping forces and
-    /// their per-body loads too.
+    /// The contact forces and torques of every body (overwritten), and the
+    /// scene statistics, bit for bit as the serial stage computes them;
+    /// with `damping` (and the velocities in `states`), the damping forces
+    /// and their per-body loads too. With `keep_hits` the whole list is
+    /// one window, whose hits stay for [`Slots::for_each_hit`].
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn compute(
         &mut self,
@@ -418,12 +409,15 @@ impl Slots {
             &[crate::body::Body],
             &[crate::body::BodyState],
         )>,
+        keep_hits: bool,
     ) -> ContactStats {
-        let n = geoms.len();
-        if self.incidence.build != list.builds || self.incidence.rows.len() != n + 1 {
-            self.incidence.rebuild(n, list);
-        }
-        let (view, loads) = match damping {
+        // The last step's hits (kept for `for_each_hit`) go; what its
+        // windows did not use is released.
+        self.wall_blocks.iter_mut().for_each(Block::trim);
+        self.pair_blocks.iter_mut().for_each(Block::trim);
+        force.fill(DVec3::ZERO);
+        torque.fill(DVec3::ZERO);
+        let (view, mut loads) = match damping {
             Some((d, bodies, states)) => {
                 let view = d.view(bodies, states);
                 (Some(view), Some(d.loads()))
@@ -431,102 +425,86 @@ impl Slots {
             None => (None, None),
         };
         let view = view.as_ref();
-        // Walls and pairs in one fork: the walls' few blocks need not wait
-        // for a pool of their own.
-        let (wall_counts, pair_counts) = rayon::join(
-            || {
-                compute_blocks(
-                    &list.walls,
-                    &mut self.wall_blocks,
-                    |k, &(i, w), buf, c, out| {
-                        let (g, i) = (&geoms[i as usize], i as usize);
-                        contacts(
-                            Collider::Fibre(g),
-                            Collider::Wall(&walls[w as usize]),
-                            buf,
-                            c,
-                        );
-                        if !buf.is_empty() {
-                            out.push(k, buf, laws.fibre_wall(i), (g, i), None, view);
-                        }
-                    },
-                )
-            },
-            || {
-                compute_blocks(
-                    &list.pairs,
-                    &mut self.pair_blocks,
-                    |k, &(a, b), buf, c, out| {
-                        let (a, b) = (a as usize, b as usize);
-                        let (ga, gb) = (&geoms[a], &geoms[b]);
-                        contacts(Collider::Fibre(ga), Collider::Fibre(gb), buf, c);
-                        if !buf.is_empty() {
-                            let law = &laws.fibre_fibre(a, b);
-                            out.push(k, buf, law, (ga, a), Some((gb, b)), view);
-                        }
-                    },
-                )
-            },
-        );
-        *counters = *counters + wall_counts + pair_counts;
-
-        // Gather: each body sums its hits in the serial order (and so its
-        // damping loads, for the ledger).
-        let gather = Gather {
-            inc: &self.incidence,
-            geoms,
-            wall_blocks: &self.wall_blocks,
-            pair_blocks: &self.pair_blocks,
+        let window = if keep_hits {
+            usize::MAX
+        } else {
+            self.window * BLOCK
         };
-        gather.sum::<Total>(force, torque);
-        if let Some((df, dt)) = loads {
-            gather.sum::<DampingPart>(df, dt);
-        }
-
-        // The statistics in the serial order (walls, then pairs): the
-        // blocks' counts and first largest overlaps, then the energy summed
-        // point by point (a sum of partial sums would round differently).
         let mut stats = ContactStats::default();
-        let blocks = self.wall_blocks.iter().chain(&self.pair_blocks);
-        for part in blocks.clone().map(|b| &b.stats) {
-            stats.touching += part.touching;
-            stats.note_overlap(part.max_overlap_ratio, part.max_overlap_body);
+        // Walls first, then pairs: each body's serial order.
+        self.used.0 = 0;
+        for (first, cands) in windows(&list.walls, window) {
+            let (used, counts) =
+                compute_blocks(cands, &mut self.wall_blocks, |k, &(i, w), buf, c, out| {
+                    let (g, i) = (&geoms[i as usize], i as usize);
+                    contacts(
+                        Collider::Fibre(g),
+                        Collider::Wall(&walls[w as usize]),
+                        buf,
+                        c,
+                    );
+                    if !buf.is_empty() {
+                        out.push(k, buf, laws.fibre_wall(i), (g, i), None, view);
+                    }
+                });
+            *counters = *counters + counts;
+            let blocks = &self.wall_blocks[..used];
+            let bodies = |c: usize| (list.walls[first + c].0 as usize, None);
+            gather::<Total>(blocks, &bodies, geoms, force, torque);
+            if let Some((df, dt)) = &mut loads {
+                gather::<DampingPart>(blocks, &bodies, geoms, df, dt);
+            }
+            reduce(blocks, &mut stats);
+            self.used.0 = used;
         }
-        for p in blocks.flat_map(|b| &b.points) {
-            stats.elastic += p.energy;
+        self.used.1 = 0;
+        for (first, cands) in windows(&list.pairs, window) {
+            let (used, counts) =
+                compute_blocks(cands, &mut self.pair_blocks, |k, &(a, b), buf, c, out| {
+                    let (a, b) = (a as usize, b as usize);
+                    let (ga, gb) = (&geoms[a], &geoms[b]);
+                    contacts(Collider::Fibre(ga), Collider::Fibre(gb), buf, c);
+                    if !buf.is_empty() {
+                        let law = &laws.fibre_fibre(a, b);
+                        out.push(k, buf, law, (ga, a), Some((gb, b)), view);
+                    }
+                });
+            *counters = *counters + counts;
+            let blocks = &self.pair_blocks[..used];
+            let bodies = |c: usize| {
+                let (a, b) = list.pairs[first + c];
+                (a as usize, Some(b as usize))
+            };
+            gather::<Total>(blocks, &bodies, geoms, force, torque);
+            if let Some((df, dt)) = &mut loads {
+                gather::<DampingPart>(blocks, &bodies, geoms, df, dt);
+            }
+            reduce(blocks, &mut stats);
+            self.used.1 = used;
         }
         stats
     }
 }
 
 #[cfg(feature = "mpi")]
-impl Block {
-    /// Each hit's candidate (index in the block) and its points, in order.
-    fn hits(&self) -> impl Iterator<Item = (usize, &[PointLoad])> {
-        let touched = (0..BLOCK).filter(|k| self.touched[k / 64] & (1 << (k % 64)) != 0);
-        touched
-            .enumerate()
-            .map(|(s, k)| (k, &self.points[self.range(s)]))
-    }
-}
-
-#[cfg(feature = "mpi")]
 impl Slots {
-    /// Each hit of the last [`Slots::compute`], walls first, in candidate
-    /// order: `(wall, candidate, points)`, each point `[weight·U, δ/D on A,
-    /// δ/D on B]` as the statistics of [`Slots::compute`] note them (an MPI
-    /// rank's share of the scene statistics, `src/ranks/tally.rs`).
+    /// Each hit of the last [`Slots::compute`] (with `keep_hits`), walls
+    /// first, in candidate order: `(wall, candidate, points)`, each point
+    /// `[weight·U, δ/D on A, δ/D on B]` as the statistics of
+    /// [`Slots::compute`] note them (an MPI rank's share of the scene
+    /// statistics, `src/ranks/tally.rs`).
     pub(crate) fn for_each_hit(
         &self,
         list: &NeighbourList,
         geoms: &[FibreGeom],
         mut f: impl FnMut(bool, u32, &mut dyn Iterator<Item = [f64; 3]>),
     ) {
-        for (n, block) in self.wall_blocks.iter().enumerate() {
-            for (k, points) in block.hits() {
+        for (n, block) in self.wall_blocks[..self.used.0].iter().enumerate() {
+            for (s, k) in block.hits().enumerate() {
                 let candidate = (n * BLOCK + k) as u32;
                 let a = list.walls[candidate as usize].0 as usize;
                 let ra = 2.0 * geoms[a].radius;
+                let points = &block.points[block.range(s)];
                 f(
                     true,
                     candidate,
@@ -534,14 +512,15 @@ impl Slots {
                 );
             }
         }
-        for (n, block) in self.pair_blocks.iter().enumerate() {
-            for (k, points) in block.hits() {
+        for (n, block) in self.pair_blocks[..self.used.1].iter().enumerate() {
+            for (s, k) in block.hits().enumerate() {
                 let candidate = (n * BLOCK + k) as u32;
                 let (a, b) = list.pairs[candidate as usize];
                 let (ra, rb) = (
                     2.0 * geoms[a as usize].radius,
                     2.0 * geoms[b as usize].radius,
                 );
+                let points = &block.points[block.range(s)];
                 f(
                     false,
                     candidate,
@@ -567,16 +546,16 @@ mod tests {
         // As a block's buffer after its first fill: grown past its length.
         let mut v: Vec<u64> = Vec::with_capacity(2000);
         v.extend(0..1000);
-        trim(&mut v);
+        trim(&mut v, 1000);
         let (ptr, cap) = (v.as_ptr(), v.capacity());
         assert!((1062..=1133).contains(&cap), "spare kept: {cap}");
         for len in [1003, 998, 1040, 990, 1010, 1000] {
             v.resize(len, 0);
-            trim(&mut v);
+            trim(&mut v, len);
             assert_eq!((v.as_ptr(), v.capacity()), (ptr, cap), "length {len}");
         }
         v.truncate(500);
-        trim(&mut v);
+        trim(&mut v, 500);
         assert!(v.capacity() <= 500 + 500 / 8 + 8, "{}", v.capacity());
     }
 }

@@ -296,6 +296,7 @@ impl ContactStage {
             torque,
             &mut self.counters,
             self.damping.as_mut().map(|d| (d, bodies, states)),
+            false,
         );
         if let Some(d) = &mut self.damping {
             d.account(bodies, states, force);
@@ -406,6 +407,7 @@ impl ContactStage {
             torque,
             &mut self.counters,
             None,
+            true,
         );
     }
 
@@ -506,8 +508,8 @@ mod tests {
         (bits, stage.stats, stage.dissipated().to_bits())
     }
 
-    /// The pool's stage (`slots.rs`: candidates in fixed blocks, gathered
-    /// per body) gives the one-thread stage's bits on a scene of several
+    /// The pool's stage (`slots.rs`: candidates in fixed blocks, added a
+    /// window at a time) gives the one-thread stage's bits on a scene of several
     /// blocks of walls and pairs, elastic and damped, at a first and at a
     /// second configuration (the blocks' buffers reused, some contacts
     /// gone, others new). The reference is the one-thread stage, an
@@ -556,15 +558,20 @@ mod tests {
                 second.1.touching
             );
             assert_eq!(one.neighbour_builds(), 1, "the list is kept");
-            for threads in [2, 3] {
+            // Windows of 1 and 2 blocks: the walls' two blocks and the pairs'
+            // twelve added a window at a time (the default holds them all).
+            for (threads, window) in [(2, None), (3, None), (2, Some(1)), (3, Some(2))] {
                 let mut many = new();
+                if let Some(w) = window {
+                    many.slots.window = w;
+                }
                 assert!(
                     on_pool(&mut many, bodies, &scene.initial, threads) == first,
-                    "{threads} threads, first configuration, damping {damping:?}"
+                    "{threads} threads, window {window:?}, first configuration, damping {damping:?}"
                 );
                 assert!(
                     on_pool(&mut many, bodies, &moved, threads) == second,
-                    "{threads} threads, second configuration, damping {damping:?}"
+                    "{threads} threads, window {window:?}, second configuration, damping {damping:?}"
                 );
             }
         }
