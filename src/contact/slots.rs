@@ -83,6 +83,8 @@ pub(crate) struct Slots {
     used: (usize, usize),
     /// Blocks per window ([`WINDOW`]; tests make it smaller).
     pub(super) window: usize,
+    /// The neighbour-list build whose order was last checked.
+    checked: u64,
 }
 
 impl Default for Slots {
@@ -92,6 +94,7 @@ impl Default for Slots {
             pair_blocks: vec![],
             used: (0, 0),
             window: WINDOW,
+            checked: 0,
         }
     }
 }
@@ -430,6 +433,18 @@ impl Slots {
         } else {
             self.window * BLOCK
         };
+        if self.checked != list.builds {
+            // The serial order the windows reproduce rests on these.
+            assert!(
+                list.pairs.iter().all(|&(i, j)| i < j) && list.pairs.is_sorted(),
+                "pairs (i < j), sorted"
+            );
+            assert!(
+                list.walls.is_sorted_by_key(|w| w.0),
+                "wall candidates body-major"
+            );
+            self.checked = list.builds;
+        }
         let mut stats = ContactStats::default();
         // Walls first, then pairs: each body's serial order.
         self.used.0 = 0;
