@@ -75,12 +75,11 @@ struct Block {
 
 /// The parallel stage's buffers, kept between steps: one window's blocks
 /// of wall and of pair candidates (all of them when the stage keeps every
-/// hit for [`Slots::for_each_hit`]), and how many the last window used.
+/// hit for [`Slots::for_each_hit`]).
 #[derive(Debug, Clone)]
 pub(crate) struct Slots {
     wall_blocks: Vec<Block>,
     pair_blocks: Vec<Block>,
-    used: (usize, usize),
     /// Blocks per window ([`WINDOW`]; tests make it smaller).
     pub(super) window: usize,
     /// The neighbour-list build whose order was last checked.
@@ -92,7 +91,6 @@ impl Default for Slots {
         Slots {
             wall_blocks: vec![],
             pair_blocks: vec![],
-            used: (0, 0),
             window: WINDOW,
             checked: 0,
         }
@@ -297,12 +295,13 @@ impl Load for DampingPart {
 /// Add the loads `L` of a window's `blocks` to the sums of the bodies
 /// `lo..lo + force.len()`, point by point in candidate order as the serial
 /// stage does: side A `+F` and `+((p − c) × F + couple)`, side B minus
-/// those, with `c` the body's own centre. `bodies(c)` are candidate `c`'s
-/// body A and body B (none for a wall).
+/// those, with `c` the body's own centre. `bodies(candidate)` are its
+/// body A and body B (none for a wall); `cands` are the window's.
 #[inline]
-fn add_window<L: Load>(
+fn add_window<L: Load, T>(
     blocks: &[Block],
-    bodies: &impl Fn(usize) -> (usize, Option<usize>),
+    cands: &[T],
+    bodies: &impl Fn(&T) -> (usize, Option<usize>),
     geoms: &[FibreGeom],
     lo: usize,
     force: &mut [DVec3],
@@ -317,7 +316,7 @@ fn add_window<L: Load>(
     for (n, block) in blocks.iter().enumerate() {
         let mut next = 0;
         for (s, k) in block.hits().enumerate() {
-            let (a, b) = bodies(n * BLOCK + k);
+            let (a, b) = bodies(&cands[n * BLOCK + k]);
             let (la, lb) = (local(a), b.and_then(local));
             if la.is_none() && lb.is_none() {
                 continue;
@@ -356,9 +355,10 @@ fn add_window<L: Load>(
 /// [`add_window`] on the pool: the bodies cut into one contiguous range
 /// per thread, each range's thread reading the whole window (a body's sum
 /// is the same whichever thread makes it).
-fn gather<L: Load>(
+fn gather<L: Load, T: Sync>(
     blocks: &[Block],
-    bodies: &(impl Fn(usize) -> (usize, Option<usize>) + Sync),
+    cands: &[T],
+    bodies: &(impl Fn(&T) -> (usize, Option<usize>) + Sync),
     geoms: &[FibreGeom],
     force: &mut [DVec3],
     torque: &mut [DVec3],
@@ -368,7 +368,7 @@ fn gather<L: Load>(
         .par_chunks_mut(len)
         .zip(torque.par_chunks_mut(len))
         .enumerate()
-        .for_each(|(r, (f, t))| add_window::<L>(blocks, bodies, geoms, r * len, f, t));
+        .for_each(|(r, (f, t))| add_window::<L, T>(blocks, cands, bodies, geoms, r * len, f, t));
 }
 
 /// Add a window's statistics to `stats` in the serial order: the blocks'
@@ -384,11 +384,41 @@ fn reduce(blocks: &[Block], stats: &mut ContactStats) {
     }
 }
 
-/// The windows of a candidate list: `(first candidate, candidates)`.
-fn windows<T>(list: &[T], window: usize) -> impl Iterator<Item = (usize, &[T])> {
-    list.chunks(window)
-        .enumerate()
-        .map(move |(w, c)| (w * window, c))
+/// Where a window's loads go: each body's forces and torques, its damping
+/// loads (damped scenes), the statistics and the kernels' counts.
+struct Sums<'a> {
+    geoms: &'a [FibreGeom],
+    force: &'a mut [DVec3],
+    torque: &'a mut [DVec3],
+    damping: Option<(&'a mut [DVec3], &'a mut [DVec3])>,
+    stats: ContactStats,
+    counters: KernelCounters,
+}
+
+impl Sums<'_> {
+    /// Compute `candidates` into `blocks` a `window` at a time (`eval` as
+    /// in [`compute_blocks`]), adding each window's loads and statistics in
+    /// the serial order before the next; `bodies(candidate)` are its body A
+    /// and body B (none for a wall).
+    fn windows<T: Sync>(
+        &mut self,
+        candidates: &[T],
+        window: usize,
+        blocks: &mut Vec<Block>,
+        eval: impl Fn(usize, &T, &mut Vec<ContactPoint>, &mut KernelCounters, &mut Block) + Sync,
+        bodies: impl Fn(&T) -> (usize, Option<usize>) + Sync,
+    ) {
+        for cands in candidates.chunks(window) {
+            let (used, counts) = compute_blocks(cands, blocks, &eval);
+            self.counters = self.counters + counts;
+            let blocks = &blocks[..used];
+            gather::<Total, T>(blocks, cands, &bodies, self.geoms, self.force, self.torque);
+            if let Some((df, dt)) = &mut self.damping {
+                gather::<DampingPart, T>(blocks, cands, &bodies, self.geoms, df, dt);
+            }
+            reduce(blocks, &mut self.stats);
+        }
+    }
 }
 
 impl Slots {
@@ -420,7 +450,7 @@ impl Slots {
         self.pair_blocks.iter_mut().for_each(Block::trim);
         force.fill(DVec3::ZERO);
         torque.fill(DVec3::ZERO);
-        let (view, mut loads) = match damping {
+        let (view, loads) = match damping {
             Some((d, bodies, states)) => {
                 let view = d.view(bodies, states);
                 (Some(view), Some(d.loads()))
@@ -445,59 +475,50 @@ impl Slots {
             );
             self.checked = list.builds;
         }
-        let mut stats = ContactStats::default();
+        let mut sums = Sums {
+            geoms,
+            force,
+            torque,
+            damping: loads,
+            stats: ContactStats::default(),
+            counters: *counters,
+        };
         // Walls first, then pairs: each body's serial order.
-        self.used.0 = 0;
-        for (first, cands) in windows(&list.walls, window) {
-            let (used, counts) =
-                compute_blocks(cands, &mut self.wall_blocks, |k, &(i, w), buf, c, out| {
-                    let (g, i) = (&geoms[i as usize], i as usize);
-                    contacts(
-                        Collider::Fibre(g),
-                        Collider::Wall(&walls[w as usize]),
-                        buf,
-                        c,
-                    );
-                    if !buf.is_empty() {
-                        out.push(k, buf, laws.fibre_wall(i), (g, i), None, view);
-                    }
-                });
-            *counters = *counters + counts;
-            let blocks = &self.wall_blocks[..used];
-            let bodies = |c: usize| (list.walls[first + c].0 as usize, None);
-            gather::<Total>(blocks, &bodies, geoms, force, torque);
-            if let Some((df, dt)) = &mut loads {
-                gather::<DampingPart>(blocks, &bodies, geoms, df, dt);
-            }
-            reduce(blocks, &mut stats);
-            self.used.0 = used;
-        }
-        self.used.1 = 0;
-        for (first, cands) in windows(&list.pairs, window) {
-            let (used, counts) =
-                compute_blocks(cands, &mut self.pair_blocks, |k, &(a, b), buf, c, out| {
-                    let (a, b) = (a as usize, b as usize);
-                    let (ga, gb) = (&geoms[a], &geoms[b]);
-                    contacts(Collider::Fibre(ga), Collider::Fibre(gb), buf, c);
-                    if !buf.is_empty() {
-                        let law = &laws.fibre_fibre(a, b);
-                        out.push(k, buf, law, (ga, a), Some((gb, b)), view);
-                    }
-                });
-            *counters = *counters + counts;
-            let blocks = &self.pair_blocks[..used];
-            let bodies = |c: usize| {
-                let (a, b) = list.pairs[first + c];
-                (a as usize, Some(b as usize))
-            };
-            gather::<Total>(blocks, &bodies, geoms, force, torque);
-            if let Some((df, dt)) = &mut loads {
-                gather::<DampingPart>(blocks, &bodies, geoms, df, dt);
-            }
-            reduce(blocks, &mut stats);
-            self.used.1 = used;
-        }
-        stats
+        sums.windows(
+            &list.walls,
+            window,
+            &mut self.wall_blocks,
+            |k, &(i, w), buf, c, out| {
+                let (g, i) = (&geoms[i as usize], i as usize);
+                contacts(
+                    Collider::Fibre(g),
+                    Collider::Wall(&walls[w as usize]),
+                    buf,
+                    c,
+                );
+                if !buf.is_empty() {
+                    out.push(k, buf, laws.fibre_wall(i), (g, i), None, view);
+                }
+            },
+            |&(i, _)| (i as usize, None),
+        );
+        sums.windows(
+            &list.pairs,
+            window,
+            &mut self.pair_blocks,
+            |k, &(a, b), buf, c, out| {
+                let (a, b) = (a as usize, b as usize);
+                let (ga, gb) = (&geoms[a], &geoms[b]);
+                contacts(Collider::Fibre(ga), Collider::Fibre(gb), buf, c);
+                if !buf.is_empty() {
+                    let law = &laws.fibre_fibre(a, b);
+                    out.push(k, buf, law, (ga, a), Some((gb, b)), view);
+                }
+            },
+            |&(a, b)| (a as usize, Some(b as usize)),
+        );
+        *counters = sums.counters;
+        sums.stats
     }
 }
 
@@ -514,7 +535,9 @@ impl Slots {
         geoms: &[FibreGeom],
         mut f: impl FnMut(bool, u32, &mut dyn Iterator<Item = [f64; 3]>),
     ) {
-        for (n, block) in self.wall_blocks[..self.used.0].iter().enumerate() {
+        // With `keep_hits` the first blocks hold the whole list.
+        let (walls, pairs) = (list.walls.len(), list.pairs.len());
+        for (n, block) in self.wall_blocks[..walls.div_ceil(BLOCK)].iter().enumerate() {
             for (s, k) in block.hits().enumerate() {
                 let candidate = (n * BLOCK + k) as u32;
                 let a = list.walls[candidate as usize].0 as usize;
@@ -527,7 +550,7 @@ impl Slots {
                 );
             }
         }
-        for (n, block) in self.pair_blocks[..self.used.1].iter().enumerate() {
+        for (n, block) in self.pair_blocks[..pairs.div_ceil(BLOCK)].iter().enumerate() {
             for (s, k) in block.hits().enumerate() {
                 let candidate = (n * BLOCK + k) as u32;
                 let (a, b) = list.pairs[candidate as usize];
