@@ -117,7 +117,7 @@ fn lattice(n: usize) -> Scene {
             },
         });
     }
-    scene.ids = (0..n as u64).collect();
+    scene.ids = fibresim::scenario::Ids::Sequential(n);
     scene
 }
 

@@ -39,7 +39,7 @@ fn lattice(n: usize) -> Scene {
     let (body, state) = (scene.bodies[0], scene.initial[0]);
     scene.bodies = vec![body; n];
     scene.names = (0..n).map(|i| format!("f{i}")).collect();
-    scene.ids = (0..n as u64).collect();
+    scene.ids = fibresim::scenario::Ids::Sequential(n);
     scene.initial = (0..n)
         .map(|k| {
             let (i, j, l) = (k % side, (k / side) % side, k / (side * side));

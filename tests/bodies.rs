@@ -80,6 +80,63 @@ fn generated_beds_round_trip_and_repeat() {
     }
 }
 
+/// Ids other than the storage index (a body file numbered backwards) are
+/// kept as given: the scene reports them, a body file written back holds
+/// them, byte for byte, and a run's trajectory rows carry them. A file
+/// numbered 0, 1, … in order keeps only the count (`Ids::Sequential`).
+#[test]
+fn ids_other_than_the_index_are_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, _) = generate(dir.path(), "a", &["--seed", "5", "--speed", "0.5"]);
+    let csv_path = a.replace(".toml", "_bodies.csv");
+    let text = std::fs::read_to_string(&csv_path).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let rows = lines.len() - 1;
+    for (k, line) in lines.iter_mut().skip(1).enumerate() {
+        let rest = line.split_once(',').unwrap().1.to_string();
+        *line = format!("{},{rest}", 1000 + rows - 1 - k);
+    }
+    let renumbered = lines.join("\n") + "\n";
+    std::fs::write(&csv_path, &renumbered).unwrap();
+    let scene = fibresim::scenario::load(Path::new(&a)).unwrap();
+    assert!(matches!(scene.ids, fibresim::scenario::Ids::Listed(_)));
+    assert_eq!(scene.ids.get(0), 1000 + rows as u64 - 1);
+    assert_eq!(scene.name(rows - 1), "body1000");
+    let back = dir.path().join("back.csv");
+    let names: Vec<String> = scene.materials.iter().map(|m| m.name.clone()).collect();
+    fibresim::scenario::body_file::write(&back, &scene.ids, &scene.bodies, &scene.initial, &names)
+        .unwrap();
+    assert_eq!(std::fs::read_to_string(&back).unwrap(), renumbered);
+    let out = dir.path().join("run");
+    ok(&fibresim(&[
+        "run",
+        &a,
+        "--t-end",
+        "2e-6",
+        "--dt",
+        "1e-6",
+        "--trajectory-every",
+        "1",
+        "-q",
+        "--out",
+        out.to_str().unwrap(),
+    ]));
+    let traj = std::fs::read_to_string(out.join("trajectory.csv")).unwrap();
+    let first_ids: Vec<&str> = traj
+        .lines()
+        .skip(1)
+        .take(2)
+        .map(|l| l.split(',').nth(2).unwrap())
+        .collect();
+    assert_eq!(
+        first_ids,
+        [
+            format!("{}", 1000 + rows - 1),
+            format!("{}", 1000 + rows - 2)
+        ]
+    );
+}
+
 /// Orientations: aligned fibres all point along the axis, planar ones lie
 /// in the plane; distributed sizes stay within their bounds.
 #[test]
@@ -281,7 +338,7 @@ fn replicated_beds_copy_states_and_measure_the_seams() {
     assert!(text.contains("start_overlap_ratio = 0.03\n"), "{text}");
     let a = fibresim::scenario::load(&src).unwrap();
     let b = fibresim::scenario::load(&out).expect("the replicated bed loads");
-    assert_eq!(b.ids, [0, 1, 2, 3]);
+    assert_eq!(b.ids, fibresim::scenario::Ids::Sequential(4));
     let w = b.walls.as_ref().unwrap();
     assert_eq!(
         (w.min.to_array(), w.max.to_array()),

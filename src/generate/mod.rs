@@ -11,6 +11,7 @@ use crate::contact::damping::Restitution;
 use crate::contact::Walls;
 use crate::error::{Error, Result};
 use crate::scenario::write::BedScenario;
+use crate::scenario::Ids;
 use glam::DVec3;
 use place::Placement;
 use sample::Rng;
@@ -129,7 +130,7 @@ pub fn generate(o: &GenerateOptions) -> Result<GenerateReport> {
         });
     }
     let body_file = body_file_of(&o.out);
-    let ids: Vec<u64> = (0..bodies.len() as u64).collect();
+    let ids = Ids::Sequential(bodies.len());
     crate::scenario::body_file::write(
         &body_file,
         &ids,

@@ -10,7 +10,7 @@ use crate::body::{BodyState, Shape};
 use crate::error::{Error, Result};
 use crate::integrate::step::World;
 use crate::scenario::write::BedScenario;
-use crate::scenario::{Scene, Walls};
+use crate::scenario::{Ids, Scene, Walls};
 use glam::DVec3;
 use std::path::PathBuf;
 
@@ -100,7 +100,7 @@ pub fn replicated(scene: &Scene, times: [usize; 3]) -> Result<Scene> {
             }
         }
     }
-    out.ids = (0..out.bodies.len() as u64).collect();
+    out.ids = Ids::Sequential(out.bodies.len());
     Ok(out)
 }
 

@@ -146,7 +146,7 @@ impl<'s> World<'s> {
                 None
             };
             let torque = torque_source(p, contact);
-            let fault = |fault| Box::new(fault_diagnosis(fault, scene.ids[i], self.step, t));
+            let fault = |fault| Box::new(fault_diagnosis(fault, scene.ids.get(i), self.step, t));
             if const { R::Aux::LEN == 0 } {
                 let mut a = R::Aux::default();
                 R::advance(&mut s.rot, &mut a, &body.inertia, torque, t, dt).map_err(fault)?;
@@ -244,7 +244,7 @@ impl<'s> World<'s> {
             kind,
             step: self.step,
             t: self.time(),
-            body: body.map(|i| ids[i]),
+            body: body.map(|i| ids.get(i)),
             value,
             limit,
         };

@@ -20,7 +20,7 @@ use crate::integrate::rotate::Rotator;
 use crate::integrate::step::World;
 use crate::run::observer::Observer;
 use crate::run::stats::RunStats;
-use crate::scenario::Scene;
+use crate::scenario::{Ids, Scene};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -60,7 +60,7 @@ pub struct Checkpoint {
     pub states_fnv: String,
     /// Global body ids, in the order of `states` (in the states file).
     #[serde(skip)]
-    pub ids: Vec<u64>,
+    pub ids: Ids,
     /// Every body's state (in the states file).
     #[serde(skip)]
     pub states: Vec<BodyState>,
@@ -167,6 +167,7 @@ fn unbits_all(v: &[String], what: &str) -> Result<Vec<f64>> {
 /// for the shipped rotators (160 damped); floats are their exact bits.
 pub mod states {
     use crate::body::{BodyState, RotState};
+    use crate::scenario::Ids;
     use glam::{DQuat, DVec3};
 
     /// The first bytes of a states file.
@@ -182,14 +183,14 @@ pub mod states {
     }
 
     /// The file's bytes (`loads`: empty, or one `[F, τ]` per body).
-    pub fn encode(ids: &[u64], states: &[BodyState], aux: &[f64], loads: &[[DVec3; 2]]) -> Vec<u8> {
+    pub fn encode(ids: &Ids, states: &[BodyState], aux: &[f64], loads: &[[DVec3; 2]]) -> Vec<u8> {
         let n = states.len();
         let per = aux.len().checked_div(n).unwrap_or(0);
         let mut out = Vec::with_capacity(24 + n * 112 + aux.len() * 8 + loads.len() * 48);
         out.extend_from_slice(MAGIC);
         out.extend_from_slice(&(n as u64).to_le_bytes());
         out.extend_from_slice(&(per as u64).to_le_bytes());
-        for (&id, s) in ids.iter().zip(states) {
+        for (id, s) in ids.iter().zip(states) {
             out.extend_from_slice(&id.to_le_bytes());
             let q = s.rot.q;
             let w = s.rot.omega_b;
@@ -211,7 +212,7 @@ pub mod states {
     }
 
     /// What a states file holds: ids, states, rotator state, loads.
-    pub type Decoded = (Vec<u64>, Vec<BodyState>, Vec<f64>, Vec<[DVec3; 2]>);
+    pub type Decoded = (Ids, Vec<BodyState>, Vec<f64>, Vec<[DVec3; 2]>);
 
     /// The ids, states, rotator state and (when `with_loads`: a damped
     /// scene's) loads of a file's bytes, or what is wrong.
@@ -261,7 +262,7 @@ pub mod states {
                 ]
             })
             .collect();
-        Ok((ids, states, aux, loads))
+        Ok((ids.into(), states, aux, loads))
     }
 }
 

@@ -54,7 +54,7 @@ impl Observer for OrientationCsv {
         let file = &mut self.file;
         let path = &file.path;
         let out = file.w.as_mut().ok_or_else(|| not_open(path))?;
-        for (s, &id) in w.states.iter().zip(&scene.ids) {
+        for (s, id) in w.states.iter().zip(scene.ids.iter()) {
             let q = s.rot.q;
             let a = q * DVec3::X;
             let write = |out: &mut csv::Writer<_>| -> csv::Result<()> {

@@ -137,8 +137,8 @@ impl Summary {
             settled: None,
             final_state: world.states[..scene.names.len()]
                 .iter()
-                .zip(&scene.ids)
-                .map(|(s, &id)| BodyFinal {
+                .zip(scene.ids.iter())
+                .map(|(s, id)| BodyFinal {
                     body: id,
                     q: wxyz(s.rot.q),
                     x: s.x.to_array(),

@@ -57,7 +57,7 @@ impl Observer for TrajectoryCsv {
         let file = &mut self.file;
         let path = &file.path;
         let out = file.w.as_mut().ok_or_else(|| not_open(path))?;
-        for (s, &id) in w.states.iter().zip(&w.scene.ids) {
+        for (s, id) in w.states.iter().zip(w.scene.ids.iter()) {
             let omega = to_world(s.rot.q, s.rot.omega_b);
             let mut write = || -> csv::Result<()> {
                 let mut row = Row::new(out);

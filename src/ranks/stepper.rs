@@ -353,7 +353,7 @@ impl<'c> RankStep<'c> {
                 let f = RotatorFault::ScalarSingularity { half_angle: c[1] };
                 Err(Box::new(fault_diagnosis(
                     f,
-                    w.scene.ids[c[0] as usize],
+                    w.scene.ids.get(c[0] as usize),
                     w.step,
                     t,
                 )))

@@ -56,7 +56,7 @@ impl Frame {
             .iter()
             .zip(states)
             .enumerate()
-            .map(|(i, (b, s))| fibre_of(b, s, contacts[i], scene.ids[i]))
+            .map(|(i, (b, s))| fibre_of(b, s, contacts[i], scene.ids.get(i)))
             .collect();
         Frame {
             step,

@@ -240,7 +240,7 @@ fn trajectory(input: &Path, scenario: Option<&Path>) -> Result<Vec<Frame>> {
         .ids
         .iter()
         .enumerate()
-        .map(|(i, &id)| (id, i))
+        .map(|(i, id)| (id, i))
         .collect();
     let mut frames = vec![];
     let mut states = scene.initial.clone();

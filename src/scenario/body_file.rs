@@ -15,6 +15,7 @@
 
 use super::check::Ctx;
 use super::file::MaterialSection;
+use super::ids::Ids;
 use super::SPEED_OF_LIGHT;
 use crate::body::{Body, BodyState, MaterialId, RotState, Shape};
 use crate::error::{Error, Result};
@@ -291,7 +292,7 @@ fn parse_row(
 /// round-trip form.
 pub fn write(
     path: &Path,
-    ids: &[u64],
+    ids: &Ids,
     bodies: &[Body],
     states: &[BodyState],
     material_names: &[String],

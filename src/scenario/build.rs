@@ -249,7 +249,7 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
         source: src.to_string(),
         text: String::new(),
         sim,
-        ids,
+        ids: ids.into(),
         bodies,
         names,
         materials: materials.table,

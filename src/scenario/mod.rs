@@ -10,6 +10,7 @@ pub mod body_file;
 pub mod build;
 pub(crate) mod check;
 pub mod file;
+mod ids;
 pub mod keys;
 pub mod locate;
 pub mod output;
@@ -21,6 +22,7 @@ pub mod write;
 
 pub use bodies::{aabb, SPEED_OF_LIGHT};
 pub use build::{load, load_with_warnings, parse_str, parse_with_warnings};
+pub use ids::Ids;
 pub use locate::locate;
 pub use output::OutputRequest;
 pub use reference::ClosedForm;

@@ -1,5 +1,6 @@
 //! A checked scene, ready to run: what the step reads.
 
+use super::ids::Ids;
 use super::reference::ClosedForm;
 use super::sim::{Guards, SimParams};
 use crate::body::{Body, BodyState, Material};
@@ -42,7 +43,7 @@ pub struct Scene {
     pub bodies: Vec<Body>,
     /// Stable global id of each body (the `body` column of the outputs,
     /// diagnoses, checkpoints), by storage index.
-    pub ids: Vec<u64>,
+    pub ids: Ids,
     /// The `name` of each `[[body]]` body, by storage index; bodies from a
     /// body file (after them) have none: see [`Scene::name`].
     pub names: Vec<String>,
@@ -83,7 +84,7 @@ impl Scene {
     pub fn name(&self, i: usize) -> String {
         match self.names.get(i) {
             Some(n) => n.clone(),
-            None => format!("body{}", self.ids[i]),
+            None => format!("body{}", self.ids.get(i)),
         }
     }
 

@@ -56,7 +56,7 @@ pub(crate) fn frame_bytes(world: &World, contacts: &[u32]) -> Vec<u8> {
         for p in [s.x - h, s.x + h] {
             points.extend(p.to_array().map(|c| c as f32));
         }
-        id.push(scene.ids[i] as i64);
+        id.push(scene.ids.get(i) as i64);
         material.push(b.material as i32);
         diameter.push(d as f32);
         length.push(l as f32);
