@@ -17,7 +17,8 @@
 //! Per run it prints: fibres, steps, median fibre-steps/s and CPU time per
 //! fibre-step per thread count, the parallel efficiency and the CPU time on
 //! T threads over that on one, the neighbour-list builds and candidate pairs
-//! per fibre, touching contacts per fibre, the stage shares (one clocked
+//! per fibre, touching contacts per fibre, the end-involved scans, their
+//! fallbacks and parry calls, the stage shares (one clocked
 //! run), the heap in use per fibre after loading and while stepping
 //! (a counting allocator wraps the system one), and the allocations of the
 //! timed steps (the most of any run: a settled bed should make none).
@@ -250,6 +251,15 @@ fn main() {
             share(t.guards),
             c.neighbour_builds(),
             c.stats.touching as f64 / n as f64
+        );
+        // Summed over the start's force computation and every step's.
+        let k = c.kernel_counters();
+        let computes = (steps + 1) as f64;
+        println!(
+            "kernels: {:.2} end-involved feature scans per fibre per step, {:.1} of them a step fell back to the iterative search, {:.1} parry calls a step",
+            k.end_scans as f64 / computes / n as f64,
+            k.fallbacks as f64 / computes,
+            k.parry_calls as f64 / computes
         );
         println!(
             "heap while stepping: {:.0} B/fibre for the world (states, forces, contact stage), {:.0} B/fibre with the scene ({:.0} B/fibre)",
