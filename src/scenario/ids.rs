@@ -57,11 +57,44 @@ impl Ids {
         self.len() == 0
     }
 
-    /// The ids in storage order.
-    pub fn iter(&self) -> impl ExactSizeIterator<Item = u64> + '_ {
-        (0..self.len()).map(move |i| self.get(i))
+    /// The ids in storage order (per-row outputs walk it every step: no
+    /// bounds check or match per id).
+    pub fn iter(&self) -> IdsIter<'_> {
+        match self {
+            Ids::Sequential(n) => IdsIter::Sequential(0..*n as u64),
+            Ids::Listed(v) => IdsIter::Listed(v.iter()),
+        }
     }
 }
+
+/// [`Ids::iter`].
+pub enum IdsIter<'a> {
+    /// The storage indices.
+    Sequential(std::ops::Range<u64>),
+    /// A list.
+    Listed(std::slice::Iter<'a, u64>),
+}
+
+impl Iterator for IdsIter<'_> {
+    type Item = u64;
+
+    #[inline]
+    fn next(&mut self) -> Option<u64> {
+        match self {
+            IdsIter::Sequential(r) => r.next(),
+            IdsIter::Listed(it) => it.next().copied(),
+        }
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        match self {
+            IdsIter::Sequential(r) => r.size_hint(),
+            IdsIter::Listed(it) => it.size_hint(),
+        }
+    }
+}
+
+impl ExactSizeIterator for IdsIter<'_> {}
 
 #[cfg(test)]
 mod tests {

@@ -22,7 +22,7 @@ pub mod write;
 
 pub use bodies::{aabb, SPEED_OF_LIGHT};
 pub use build::{load, load_with_warnings, parse_str, parse_with_warnings};
-pub use ids::Ids;
+pub use ids::{Ids, IdsIter};
 pub use locate::locate;
 pub use output::OutputRequest;
 pub use reference::ClosedForm;
