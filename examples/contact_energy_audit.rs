@@ -78,7 +78,7 @@ fn main() {
         fibresim::output::checkpoint::restore(&c, &scene, 0).expect("checkpoint of this scene");
     let damped = fibresim::output::checkpoint::restore_damping(&c, &scene)
         .expect("checkpoint of this scene");
-    w.restore(states, aux, c.step);
+    w.restore(states, aux, c.step, c.memory.clone());
     if let Some(d) = damped {
         w.restore_damping(d);
     }

@@ -121,7 +121,7 @@ fn replay(starts: &[Start; 2], steps: u64) -> Replay {
     let mut w = World::new(&scene);
     let mut states = w.states.clone();
     states[1].x -= away;
-    w.restore(states, vec![], 0);
+    w.restore(states, vec![], 0, vec![]);
     let e0 = w.ledger.total_full();
     // (The energy guard's reference: the pair as put back.)
     w.e0_full = e0;

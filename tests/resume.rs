@@ -345,7 +345,7 @@ fn strip_timings(p: &Path) -> String {
 /// summary are the bytes of the run straight to 400; resumed for no step,
 /// its summary is the one the run wrote at step 200. The states file is
 /// the format's size (header 24 B; 112 B per fibre, and the 48 B of the
-/// contact force and torque a damped step carries).
+/// contact force and torque a damped step carries; the pair memories).
 #[test]
 fn resume_of_a_damped_bed_gives_the_same_bytes() {
     let dir = tempfile::tempdir().unwrap();
@@ -362,10 +362,13 @@ fn resume_of_a_damped_bed_gives_the_same_bytes() {
         strip_timings(&split.join("summary.json")),
         strip_timings(&zero.join("summary.json"))
     );
-    let states = std::fs::metadata(split.join("checkpoint.states"))
-        .unwrap()
-        .len();
-    assert_eq!(states, 24 + 160 * 1000);
+    let states = read_bytes(&split.join("checkpoint.states"));
+    // Then the count of pair memories (u64 at the end of the per-fibre
+    // part), 14 B each: most resting end-involved contacts have one.
+    let at = 24 + 160 * 1000;
+    let remembered = u64::from_le_bytes(states[at..at + 8].try_into().unwrap()) as usize;
+    assert_eq!(states.len(), at + 8 + 14 * remembered);
+    assert!(remembered > 300, "{remembered} pair memories");
     resume_to(&ckpt, "4e-4", &["--threads", "2"]);
     let energy = read_bytes(&whole.join("energy.csv"));
     assert!(String::from_utf8_lossy(&energy)
@@ -513,14 +516,19 @@ fn bad_damped_checkpoints_are_refused() {
     );
     let states_path = out.join("checkpoint.states");
     let bytes = read_bytes(&states_path);
-    assert_eq!(bytes.len(), 24 + 160 * 3);
+    assert_eq!(
+        bytes.len(),
+        24 + 160 * 3 + 8,
+        "three fibres, no pair memory"
+    );
     std::fs::write(&states_path, &bytes[..bytes.len() - 48]).unwrap();
     refused(
         &["run", "--resume", ck, "-q"],
         &["checkpoint.states", "does not belong"],
     );
-    // The elastic layout, and a JSON without `damping`, consistent.
-    let old = &bytes[..24 + 112 * 3];
+    // The elastic layout (no pair memory), and a JSON without `damping`,
+    // consistent.
+    let old = &[&bytes[..24 + 112 * 3], &0u64.to_le_bytes()[..]].concat();
     std::fs::write(&states_path, old).unwrap();
     let mut json: serde_json::Value = serde_json::from_slice(&read_bytes(&ckpt)).unwrap();
     let j = json.as_object_mut().unwrap();

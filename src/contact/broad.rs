@@ -9,7 +9,8 @@
 //! so contact order (and hence floating-point summation order) is
 //! deterministic.
 
-use super::fibre_fibre::segment_closest_params;
+use super::fibre_fibre::{segment_closest_params, PairMemory};
+use super::memory::{entries, place};
 use super::{FibreGeom, Wall};
 use crate::body::Shape;
 use glam::{DQuat, DVec3};
@@ -229,6 +230,9 @@ pub(crate) struct NeighbourList {
     pub(crate) walls: Vec<(u32, u32)>,
     /// `(i, j)` candidates, `i < j`, sorted.
     pub(crate) pairs: Vec<(u32, u32)>,
+    /// Each pair candidate's memory of its last end-involved scan (the
+    /// contact stage's; carried by pair across builds, `memory.rs`).
+    pub(crate) memory: Vec<PairMemory>,
     /// Bodies in any candidate, ascending.
     pub(crate) active: Vec<u32>,
     boxes: Vec<(DVec3, DVec3)>,
@@ -246,6 +250,7 @@ impl NeighbourList {
             built: vec![],
             walls: vec![],
             pairs: vec![],
+            memory: vec![],
             active: vec![],
             boxes: vec![],
             order: vec![],
@@ -337,6 +342,7 @@ impl NeighbourList {
                 }
             }
         }
+        let old_pairs = std::mem::take(&mut self.pairs);
         if geoms.len() <= BRUTE_FORCE_MAX {
             candidate_pairs_with(&boxes, &mut self.order, &mut self.pairs);
             self.boxes = boxes;
@@ -359,6 +365,10 @@ impl NeighbourList {
             // The box pairs outnumber the kept ones several times over.
             self.pairs.shrink_to_fit();
         }
+        // Every pair that can touch is in both lists, with its memory.
+        let old_memory = std::mem::take(&mut self.memory);
+        let kept = entries(&old_pairs, &old_memory, |m| *m != PairMemory::default());
+        self.memory = place(&self.pairs, kept);
         self.active.clear();
         self.active.extend(self.walls.iter().map(|&(i, _)| i));
         self.active

@@ -21,6 +21,7 @@ pub mod fibre_fibre;
 pub mod fibre_wall;
 pub mod hertz;
 mod laws;
+pub(crate) mod memory;
 pub(crate) mod overlap_check;
 pub(crate) mod slots;
 pub mod stage;
@@ -28,7 +29,7 @@ pub mod walls;
 
 pub use broad::{aabb, candidate_pairs};
 pub use dispatch::{contacts, Collider};
-pub use fibre_fibre::contact_fibre_fibre;
+pub use fibre_fibre::{contact_fibre_fibre, contact_fibre_fibre_remembering, PairMemory};
 pub use fibre_wall::contact_fibre_wall;
 pub use hertz::HertzLaw;
 pub use walls::{box_walls, Wall, Walls};
@@ -101,6 +102,10 @@ pub struct KernelCounters {
     /// `parry_calls`, except in the side–side escape, which seeds it with
     /// its own normals).
     pub fallbacks: u64,
+    /// End-involved depths answered from the pair's memory of its last
+    /// scan (one kernel, or nothing for a pair still apart) instead of a
+    /// scan (`fibre_fibre/coherence.rs`).
+    pub remembered: u64,
 }
 
 impl std::ops::Add for KernelCounters {
@@ -112,6 +117,7 @@ impl std::ops::Add for KernelCounters {
             parry_unconfirmed: self.parry_unconfirmed + o.parry_unconfirmed,
             end_scans: self.end_scans + o.end_scans,
             fallbacks: self.fallbacks + o.fallbacks,
+            remembered: self.remembered + o.remembered,
         }
     }
 }

@@ -14,6 +14,7 @@
 
 use super::broad::NeighbourList;
 use super::damping::{Damping, DampingView};
+use super::fibre_fibre::{contact_fibre_fibre_remembering, PairMemory};
 use super::laws::LawTable;
 use super::stage::ContactStats;
 use super::{contacts, Collider, ContactPoint, FibreGeom, HertzLaw, KernelCounters, Wall};
@@ -228,15 +229,29 @@ thread_local! {
     static BUF: std::cell::RefCell<Vec<ContactPoint>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
-/// Compute every candidate of `candidates` into the first of `blocks` (one
-/// per [`BLOCK`] candidates, on the pool; more are made if needed); returns
-/// how many blocks it used and the kernels' counts. `eval(k, candidate,
-/// buffer, counters, block)` pushes candidate `k`'s hit to the block if it
-/// touches.
-fn compute_blocks<T: Sync>(
+/// What the stage computes a candidate with: the candidate, its memory
+/// (pairs; `()` for walls), the kernels' output buffer, counters, and the
+/// block its hit goes to.
+trait Eval<T, M>:
+    Fn(usize, &T, &mut M, &mut Vec<ContactPoint>, &mut KernelCounters, &mut Block) + Sync
+{
+}
+
+impl<T, M, F> Eval<T, M> for F where
+    F: Fn(usize, &T, &mut M, &mut Vec<ContactPoint>, &mut KernelCounters, &mut Block) + Sync
+{
+}
+
+/// Compute every candidate of `candidates` (with its entry of `memory`)
+/// into the first of `blocks` (one per [`BLOCK`] candidates, on the pool;
+/// more are made if needed); returns how many blocks it used and the
+/// kernels' counts. `eval(k, candidate, memory, buffer, counters, block)`
+/// pushes candidate `k`'s hit to the block if it touches.
+fn compute_blocks<T: Sync, M: Send>(
     candidates: &[T],
+    memory: &mut [M],
     blocks: &mut Vec<Block>,
-    eval: impl Fn(usize, &T, &mut Vec<ContactPoint>, &mut KernelCounters, &mut Block) + Sync,
+    eval: &impl Eval<T, M>,
 ) -> (usize, KernelCounters) {
     let used = candidates.len().div_ceil(BLOCK);
     if blocks.len() < used {
@@ -245,14 +260,15 @@ fn compute_blocks<T: Sync>(
     let counters = blocks[..used]
         .par_iter_mut()
         .zip(candidates.par_chunks(BLOCK))
+        .zip(memory.par_chunks_mut(BLOCK))
         .with_min_len(1)
-        .map(|(block, cands)| {
+        .map(|((block, cands), memory)| {
             let mut counters = KernelCounters::default();
             block.clear();
             BUF.with_borrow_mut(|buf| {
-                for (k, c) in cands.iter().enumerate() {
+                for (k, (c, m)) in cands.iter().zip(memory).enumerate() {
                     buf.clear();
-                    eval(k, c, buf, &mut counters, block);
+                    eval(k, c, m, buf, &mut counters, block);
                 }
             });
             counters
@@ -396,20 +412,21 @@ struct Sums<'a> {
 }
 
 impl Sums<'_> {
-    /// Compute `candidates` into `blocks` a `window` at a time (`eval` as
-    /// in [`compute_blocks`]), adding each window's loads and statistics in
+    /// Compute `candidates` (with their `memory`, one each) into `blocks` a
+    /// `window` at a time (`eval` as in [`compute_blocks`]), adding each window's loads and statistics in
     /// the serial order before the next; `bodies(candidate)` are its body A
     /// and body B (none for a wall).
-    fn windows<T: Sync>(
+    fn windows<T: Sync, M: Send>(
         &mut self,
         candidates: &[T],
+        memory: &mut [M],
         window: usize,
         blocks: &mut Vec<Block>,
-        eval: impl Fn(usize, &T, &mut Vec<ContactPoint>, &mut KernelCounters, &mut Block) + Sync,
+        eval: impl Eval<T, M>,
         bodies: impl Fn(&T) -> (usize, Option<usize>) + Sync,
     ) {
-        for cands in candidates.chunks(window) {
-            let (used, counts) = compute_blocks(cands, blocks, &eval);
+        for (cands, memory) in candidates.chunks(window).zip(memory.chunks_mut(window)) {
+            let (used, counts) = compute_blocks(cands, memory, blocks, &eval);
             self.counters = self.counters + counts;
             let blocks = &blocks[..used];
             gather::<Total, T>(blocks, cands, &bodies, self.geoms, self.force, self.torque);
@@ -430,8 +447,9 @@ impl Slots {
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn compute(
         &mut self,
-        list: &NeighbourList,
+        list: &mut NeighbourList,
         geoms: &[FibreGeom],
+        motion: &[f32],
         walls: &[Wall],
         laws: &LawTable,
         force: &mut [DVec3],
@@ -483,12 +501,14 @@ impl Slots {
             stats: ContactStats::default(),
             counters: *counters,
         };
-        // Walls first, then pairs: each body's serial order.
+        // Walls first, then pairs: each body's serial order. (Walls
+        // remember nothing: a zero-sized entry each, no allocation.)
         sums.windows(
             &list.walls,
+            &mut vec![(); list.walls.len()],
             window,
             &mut self.wall_blocks,
-            |k, &(i, w), buf, c, out| {
+            |k, &(i, w), _: &mut (), buf, c, out| {
                 let (g, i) = (&geoms[i as usize], i as usize);
                 contacts(
                     Collider::Fibre(g),
@@ -504,12 +524,14 @@ impl Slots {
         );
         sums.windows(
             &list.pairs,
+            &mut list.memory,
             window,
             &mut self.pair_blocks,
-            |k, &(a, b), buf, c, out| {
+            |k, &(a, b), memory: &mut PairMemory, buf, c, out| {
                 let (a, b) = (a as usize, b as usize);
                 let (ga, gb) = (&geoms[a], &geoms[b]);
-                contacts(Collider::Fibre(ga), Collider::Fibre(gb), buf, c);
+                let motion = f64::from(motion[a]) + f64::from(motion[b]);
+                contact_fibre_fibre_remembering(ga, gb, buf, c, Some((memory, motion)));
                 if !buf.is_empty() {
                     let law = &laws.fibre_fibre(a, b);
                     out.push(k, buf, law, (ga, a), Some((gb, b)), view);

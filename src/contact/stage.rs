@@ -9,7 +9,9 @@
 
 use super::broad::NeighbourList;
 use super::damping::{Damping, DampingPass, Restitution};
+use super::fibre_fibre::{contact_fibre_fibre_remembering, dome_sag, PairMemory};
 use super::laws::LawTable;
+use super::memory::{entries, Entry};
 use super::slots::Slots;
 use super::{
     box_walls, contacts, Collider, ContactPoint, FibreGeom, HertzLaw, KernelCounters, Wall, Walls,
@@ -45,6 +47,12 @@ pub struct ContactStage {
     damping: Option<Damping>,
     /// The parallel path's buffers.
     slots: Slots,
+    /// Each body's motion bound since the last computation (m, rounded
+    /// up), spent by its pairs' memories (`fibre_fibre/coherence.rs`).
+    motion: Vec<f32>,
+    /// MPI rank 0: every rank's pair memories, gathered for a checkpoint.
+    #[cfg(feature = "mpi")]
+    gathered: Option<Vec<Entry>>,
     /// What the last [`ContactStage::compute`] saw.
     pub stats: ContactStats,
 }
@@ -67,6 +75,24 @@ pub fn geom(body: &Body, s: &BodyState) -> FibreGeom {
     }
 }
 
+/// A bound on how far any point of the fibre moved from `old` to `new`
+/// (so how much any of its support values changed): the centre's shift
+/// plus the farthest point's `ρ |Δa|` (the least rotation taking one axis
+/// to the other moves a point at distance ρ from the centre by ρ|Δa|).
+/// Rounded up to f32 (4 bytes a body).
+#[inline]
+pub fn motion_bound(old: &FibreGeom, new: &FibreGeom) -> f32 {
+    let reach = new.half_length + dome_sag(new.radius);
+    let rho = (reach * reach + new.radius * new.radius).sqrt();
+    let m = old.centre.distance(new.centre) + rho * old.axis.distance(new.axis);
+    let r = m as f32;
+    if f64::from(r) < m {
+        r.next_up()
+    } else {
+        r
+    }
+}
+
 impl ContactStage {
     /// The stage of `bodies` (made of `materials`) in the box `walls`, if
     /// any: the Hertz laws of every pair of contact kinds are built here.
@@ -84,6 +110,9 @@ impl ContactStage {
             counters: KernelCounters::default(),
             damping: None,
             slots: Slots::default(),
+            motion: vec![],
+            #[cfg(feature = "mpi")]
+            gathered: None,
             stats: ContactStats::default(),
         }
     }
@@ -121,6 +150,32 @@ impl ContactStage {
             .as_mut()
             .map(|d| d.set_ledger_state(state))
             .is_some()
+    }
+
+    /// The pair memories a checkpoint keeps ([`PairMemory::kept_by_checkpoints`]),
+    /// by pair: those of the last computation's candidates (or, on an MPI
+    /// rank 0, every rank's, gathered).
+    pub fn memory_entries(&self) -> Vec<Entry> {
+        #[cfg(feature = "mpi")]
+        if let Some(g) = &self.gathered {
+            return g.clone();
+        }
+        let list = &self.neighbours;
+        entries(&list.pairs, &list.memory, PairMemory::kept_by_checkpoints).collect()
+    }
+
+    /// Resume with a checkpoint's pair memories at `states` (the
+    /// checkpoint's): the next computation, at these states, rebuilds the
+    /// list and gives each pair its memory, and sees no motion. Each
+    /// memory left out (a fresh one) is made again by that computation's
+    /// scan, as the run that wrote the checkpoint made it at this state.
+    pub fn restore_memory(&mut self, memory: Vec<Entry>, bodies: &[Body], states: &[BodyState]) {
+        self.geoms.clear();
+        self.geoms
+            .extend(bodies.iter().zip(states).map(|(b, s)| geom(b, s)));
+        let list = &mut self.neighbours;
+        list.built.clear();
+        (list.pairs, list.memory) = memory.into_iter().unzip();
     }
 
     /// Neighbour-list builds so far.
@@ -184,17 +239,28 @@ impl ContactStage {
         // does): of every fibre when the list is rebuilt, else only of those
         // in a candidate.
         self.geoms.resize(bodies.len(), FibreGeom::default());
+        self.motion.resize(bodies.len(), f32::INFINITY);
         if self
             .neighbours
             .still_valid(states.iter().map(|s| (s.x, s.rot.q)))
         {
             for &i in &self.neighbours.active {
                 let i = i as usize;
-                self.geoms[i] = geom(&bodies[i], &states[i]);
+                let g = geom(&bodies[i], &states[i]);
+                self.motion[i] = motion_bound(&self.geoms[i], &g);
+                self.geoms[i] = g;
             }
         } else {
-            for ((g, b), s) in self.geoms.iter_mut().zip(bodies).zip(states) {
-                *g = geom(b, s);
+            for (((g, b), s), m) in self
+                .geoms
+                .iter_mut()
+                .zip(bodies)
+                .zip(states)
+                .zip(&mut self.motion)
+            {
+                let new = geom(b, s);
+                *m = motion_bound(g, &new);
+                *g = new;
             }
             let rotations = states.iter().map(|s| s.rot.q);
             self.neighbours.build(&self.geoms, rotations, &self.walls);
@@ -223,15 +289,20 @@ impl ContactStage {
             );
         }
 
-        for &(a, b) in &self.neighbours.pairs {
+        let list = &mut self.neighbours;
+        for (&(a, b), memory) in list.pairs.iter().zip(&mut list.memory) {
             let (a, b) = (a as usize, b as usize);
             let (ga, gb) = (&self.geoms[a], &self.geoms[b]);
             self.points.clear();
-            contacts(
-                Collider::Fibre(ga),
-                Collider::Fibre(gb),
+            contact_fibre_fibre_remembering(
+                ga,
+                gb,
                 &mut self.points,
                 &mut self.counters,
+                Some((
+                    memory,
+                    f64::from(self.motion[a]) + f64::from(self.motion[b]),
+                )),
             );
             if self.points.is_empty() {
                 continue;
@@ -277,19 +348,26 @@ impl ContactStage {
     ) {
         use rayon::prelude::*;
         self.geoms.resize(bodies.len(), FibreGeom::default());
+        self.motion.resize(bodies.len(), f32::INFINITY);
         let valid =
             self.neighbours.built.len() == states.len() && self.neighbours.still_valid_par(states);
         self.geoms
             .par_iter_mut()
+            .zip(self.motion.par_iter_mut())
             .zip(bodies.par_iter().zip(states.par_iter()))
-            .for_each(|(g, (b, s))| *g = geom(b, s));
+            .for_each(|((g, m), (b, s))| {
+                let new = geom(b, s);
+                *m = motion_bound(g, &new);
+                *g = new;
+            });
         if !valid {
             let rotations = states.iter().map(|s| s.rot.q);
             self.neighbours.build(&self.geoms, rotations, &self.walls);
         }
         self.stats = self.slots.compute(
-            &self.neighbours,
+            &mut self.neighbours,
             &self.geoms,
+            &self.motion,
             &self.walls,
             &self.laws,
             force,
@@ -370,6 +448,25 @@ impl ContactStats {
 /// owned body gathers its contacts in the one-process order.
 #[cfg(feature = "mpi")]
 impl ContactStage {
+    /// Body `i`'s motion bound from its geometry at the last computation
+    /// to `state` (the one-process stage's, for the rank that owns it).
+    pub(crate) fn motion_since_last(&self, i: usize, body: &Body, state: &BodyState) -> f32 {
+        motion_bound(&self.geoms[i], &geom(body, state))
+    }
+
+    /// The touching pair memories of this stage's own list (every
+    /// candidate's, at the start of an MPI run), by pair.
+    pub(crate) fn touching_memories(&self) -> Vec<Entry> {
+        let list = &self.neighbours;
+        entries(&list.pairs, &list.memory, PairMemory::is_touching).collect()
+    }
+
+    /// Rank 0: every rank's memories that a checkpoint keeps
+    /// ([`ContactStage::memory_entries`] then answers these).
+    pub(crate) fn set_gathered_memories(&mut self, all: Vec<Entry>) {
+        self.gathered = Some(all);
+    }
+
     /// The box walls, in the order the neighbour list numbers them.
     pub(crate) fn walls(&self) -> &[Wall] {
         &self.walls
@@ -382,25 +479,31 @@ impl ContactStage {
 
     /// Forces and torques from the candidates of `list` (global indices)
     /// at `states`, for the bodies `local` (ascending; the geometry of no
-    /// other body is read). Bodies outside `local` get partial sums, which
+    /// other body is read), whose pairs' memories spend `motion` (by
+    /// global index, from each body's owner). Bodies outside `local` get partial sums, which
     /// the rank ignores.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn compute_listed(
         &mut self,
-        list: &NeighbourList,
+        list: &mut NeighbourList,
         local: &[u32],
+        motion: &[f32],
         bodies: &[Body],
         states: &[BodyState],
         force: &mut [DVec3],
         torque: &mut [DVec3],
     ) {
         self.geoms.resize(bodies.len(), FibreGeom::default());
+        self.motion.resize(bodies.len(), f32::INFINITY);
         for &i in local {
             let i = i as usize;
             self.geoms[i] = geom(&bodies[i], &states[i]);
+            self.motion[i] = motion[i];
         }
         self.slots.compute(
             list,
             &self.geoms,
+            &self.motion,
             &self.walls,
             &self.laws,
             force,

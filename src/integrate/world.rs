@@ -89,12 +89,22 @@ impl<'s> World<'s> {
     }
 
     /// Put the world at `step` with `states` and the rotator's `aux`
-    /// (resuming from a checkpoint): the forces and the ledger are
-    /// recomputed from the states, exactly as the step that produced them did.
-    pub fn restore(&mut self, states: Vec<BodyState>, aux: Vec<f64>, step: u64) {
+    /// (resuming from a checkpoint) and the pairs' `memory` of their scans:
+    /// the forces and the ledger are recomputed from the states, exactly
+    /// as the step that produced them did.
+    pub fn restore(
+        &mut self,
+        states: Vec<BodyState>,
+        aux: Vec<f64>,
+        step: u64,
+        memory: Vec<crate::contact::memory::Entry>,
+    ) {
         self.states = states;
         self.aux = aux;
         self.step = step;
+        if let Some(c) = &mut self.contacts {
+            c.restore_memory(memory, &self.scene.bodies, &self.states);
+        }
         self.compute_forces();
         self.ledger = self.measure();
     }

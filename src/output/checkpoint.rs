@@ -27,7 +27,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// The format this version writes and reads.
-pub const FORMAT: &str = "fibresim-checkpoint-3";
+pub const FORMAT: &str = "fibresim-checkpoint-4";
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
 /// A checkpoint (`checkpoint.json`).
@@ -80,6 +80,11 @@ pub struct Checkpoint {
     /// per body, `[F, τ]` by body in the order of `states` (in the states file).
     #[serde(skip)]
     pub loads: Vec<[DVec3; 2]>,
+    /// The fibre pairs' memories of their last end-involved scans that
+    /// change what the kernels answer (`contact/memory.rs`), by pair (in
+    /// the states file).
+    #[serde(skip)]
+    pub memory: Vec<crate::contact::memory::Entry>,
     /// `fibresim settle` runs only: the settle test.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub settle: Option<SettlePart>,
@@ -163,10 +168,14 @@ fn unbits_all(v: &[String], what: &str) -> Result<Vec<f64>> {
 /// `FIBRESIM`, then little-endian `u64` body count and `u64` doubles of
 /// rotator state per body, then per body its `u64` id and 13 `f64` (x, v,
 /// q as w x y z, ω_b), then the rotator state; damped scenes then add per
-/// body 6 `f64` (the contact force and torque, world). 112 bytes per fibre
-/// for the shipped rotators (160 damped); floats are their exact bits.
+/// body 6 `f64` (the contact force and torque, world); last a `u64`
+/// count of pair memories and each as `u32` i, `u32` j and the three `u16`
+/// of [`PairMemory::to_raw`]. 112 bytes per fibre for the shipped rotators
+/// (160 damped), 14 per remembered pair; floats are their exact bits.
 pub mod states {
     use crate::body::{BodyState, RotState};
+    use crate::contact::fibre_fibre::PairMemory;
+    use crate::contact::memory::Entry;
     use crate::scenario::Ids;
     use glam::{DQuat, DVec3};
 
@@ -183,7 +192,13 @@ pub mod states {
     }
 
     /// The file's bytes (`loads`: empty, or one `[F, τ]` per body).
-    pub fn encode(ids: &Ids, states: &[BodyState], aux: &[f64], loads: &[[DVec3; 2]]) -> Vec<u8> {
+    pub fn encode(
+        ids: &Ids,
+        states: &[BodyState],
+        aux: &[f64],
+        loads: &[[DVec3; 2]],
+        memory: &[Entry],
+    ) -> Vec<u8> {
         let n = states.len();
         let per = aux.len().checked_div(n).unwrap_or(0);
         let mut out = Vec::with_capacity(24 + n * 112 + aux.len() * 8 + loads.len() * 48);
@@ -208,11 +223,20 @@ pub mod states {
                 out.extend_from_slice(&x.to_bits().to_le_bytes());
             }
         }
+        out.extend_from_slice(&(memory.len() as u64).to_le_bytes());
+        for &((i, j), m) in memory {
+            out.extend_from_slice(&i.to_le_bytes());
+            out.extend_from_slice(&j.to_le_bytes());
+            for x in m.to_raw() {
+                out.extend_from_slice(&x.to_le_bytes());
+            }
+        }
         out
     }
 
-    /// What a states file holds: ids, states, rotator state, loads.
-    pub type Decoded = (Ids, Vec<BodyState>, Vec<f64>, Vec<[DVec3; 2]>);
+    /// What a states file holds: ids, states, rotator state, loads, pair
+    /// memories.
+    pub type Decoded = (Ids, Vec<BodyState>, Vec<f64>, Vec<[DVec3; 2]>, Vec<Entry>);
 
     /// The ids, states, rotator state and (when `with_loads`: a damped
     /// scene's) loads of a file's bytes, or what is wrong.
@@ -228,12 +252,17 @@ pub mod states {
         let n = word(8)? as usize;
         let per = word(16)? as usize;
         let loads_per = if with_loads { 48 } else { 0 };
-        let want = 24
+        let before_memory = 24
             + n.saturating_mul(112)
             + n.saturating_mul(per).saturating_mul(8)
             + n.saturating_mul(loads_per);
+        let remembered = word(before_memory)? as usize;
+        let want = before_memory.saturating_add(8 + remembered.saturating_mul(14));
         if b.len() != want {
-            return Err(format!("{} bytes, expected {want} for {n} bodies", b.len()));
+            return Err(format!(
+                "{} bytes, expected {want} for {n} bodies and {remembered} pair memories",
+                b.len()
+            ));
         }
         let f = |at: usize| f64::from_bits(word(at).expect("length checked"));
         let mut ids = Vec::with_capacity(n);
@@ -262,7 +291,22 @@ pub mod states {
                 ]
             })
             .collect();
-        Ok((ids.into(), states, aux, loads))
+        let half = |at: usize| u16::from_le_bytes([b[at], b[at + 1]]);
+        let quarter = |at: usize| u32::from_le_bytes(b[at..at + 4].try_into().expect("4 bytes"));
+        let mut memory = Vec::with_capacity(remembered);
+        for k in 0..remembered {
+            let at = before_memory + 8 + 14 * k;
+            let (i, j) = (quarter(at), quarter(at + 4));
+            let raw = [half(at + 8), half(at + 10), half(at + 12)];
+            let m = PairMemory::from_raw(raw)
+                .filter(|_| i < j && i < n as u32 && j < n as u32)
+                .ok_or_else(|| format!("pair memory {k} ({i}, {j}) is not one a run writes"))?;
+            if memory.last().is_some_and(|&(p, _)| p >= (i, j)) {
+                return Err(format!("pair memories out of order at {k} ({i}, {j})"));
+            }
+            memory.push(((i, j), m));
+        }
+        Ok((ids.into(), states, aux, loads, memory))
     }
 }
 
@@ -309,6 +353,10 @@ impl Checkpoint {
             observers: BTreeMap::new(),
             damping,
             loads,
+            memory: w
+                .contacts
+                .as_ref()
+                .map_or_else(Vec::new, |c| c.memory_entries()),
             settle: None,
         }
     }
@@ -318,7 +366,13 @@ impl Checkpoint {
     /// checkpoint: a states file without its JSON is refused by its hash.
     pub fn write(&mut self, path: &Path) -> Result<()> {
         let states_path = path.with_extension("states");
-        let bytes = states::encode(&self.ids, &self.states, &self.aux, &self.loads);
+        let bytes = states::encode(
+            &self.ids,
+            &self.states,
+            &self.aux,
+            &self.loads,
+            &self.memory,
+        );
         self.states_file = states_path
             .file_name()
             .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
@@ -379,8 +433,9 @@ impl Checkpoint {
                 "does not belong to this checkpoint (length or hash differs): it was written by another checkpoint, or the write was interrupted; resume from a complete checkpoint",
             ));
         }
-        (c.ids, c.states, c.aux, c.loads) = states::decode(&bytes, c.damping.is_some())
-            .map_err(|e| Error::bad(&where_, "states_file", e))?;
+        (c.ids, c.states, c.aux, c.loads, c.memory) =
+            states::decode(&bytes, c.damping.is_some())
+                .map_err(|e| Error::bad(&where_, "states_file", e))?;
         Ok(c)
     }
 

@@ -85,6 +85,15 @@ impl<'c> Comm<'c> {
         out
     }
 
+    /// Every rank's `send`, of any length, concatenated in rank order, on
+    /// every rank (the lengths gathered first).
+    pub fn all_gather_any(&mut self, send: &[f64]) -> Vec<f64> {
+        let n = send.len() as Count;
+        let mut counts = vec![0 as Count; self.size];
+        self.timed(4, |w| w.all_gather_into(&n, &mut counts[..]));
+        self.all_gather(send, &counts)
+    }
+
     /// Every rank's `send` on rank 0, with each rank's length; `None`
     /// elsewhere.
     pub fn gather(&mut self, send: &[f64]) -> Option<(Vec<f64>, Vec<Count>)> {

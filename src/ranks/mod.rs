@@ -17,6 +17,7 @@
 //! runs its own threads (`--threads`).
 
 mod comm;
+mod memory;
 mod slabs;
 mod stepper;
 mod tally;

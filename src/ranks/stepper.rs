@@ -21,10 +21,13 @@
 //! to one process for any number of ranks.
 
 use super::comm::Comm;
+use super::memory;
 use super::slabs::Slabs;
 use super::tally::{self, HitKey};
 use crate::body::BodyState;
 use crate::contact::broad::NeighbourList;
+use crate::contact::fibre_fibre::PairMemory;
+use crate::contact::memory::{entries, place, Entry};
 use crate::contact::stage::{geom, ContactStats};
 use crate::contact::FibreGeom;
 use crate::energy::Ledger;
@@ -46,8 +49,9 @@ use std::time::{Duration, Instant};
 
 /// Doubles of one body's state on the wire: x, v, q (xyzw), ω_b.
 const STATE: usize = 13;
-/// Doubles of one ghost's pose: x, q.
-const POSE: usize = 7;
+/// Doubles of one ghost's pose and motion: x, q, the motion bound of its
+/// last step (its pairs' memories spend it).
+const POSE: usize = 8;
 
 /// One rank's share of the run and its clocks.
 pub(crate) struct RankStep<'c> {
@@ -61,6 +65,11 @@ pub(crate) struct RankStep<'c> {
     list: Option<NeighbourList>,
     /// Pose of every body at the last build (centre, orientation, L/2).
     built: Vec<(DVec3, DQuat, f64)>,
+    /// Each body's motion bound over the last step, by global index (the
+    /// owned bodies' and ghosts' current): what the one-process stage
+    /// spends its pairs' memories by. Computed by the owner, whose
+    /// geometry of the body is the last step's, and sent with the poses.
+    motion: Vec<f32>,
     /// Per destination rank, the owned bodies it keeps as ghosts.
     sends: Vec<Vec<u32>>,
     /// Per source rank, its bodies this rank keeps as ghosts.
@@ -95,6 +104,7 @@ impl<'c> RankStep<'c> {
             width: 0.0,
             list: None,
             built: vec![],
+            motion: vec![],
             sends: vec![],
             recvs: vec![],
             msg: vec![],
@@ -111,6 +121,17 @@ impl<'c> RankStep<'c> {
     /// this rank's candidates.
     fn decompose(&mut self, w: &World) {
         let scene = w.scene;
+        // The pairs' touching memories, while the old slabs and list hold:
+        // at the start the one-process stage's (its step 0, or a resume's),
+        // then every rank's.
+        let memories = match (&w.contacts, &self.list) {
+            (None, _) => vec![],
+            (Some(stage), None) => stage.touching_memories(),
+            (Some(_), Some(_)) => {
+                let mine = self.owned_memories(PairMemory::is_touching);
+                memory::decode(&self.comm.all_gather_any(&memory::encode(mine.into_iter())))
+            }
+        };
         let centres: Vec<DVec3> = w.states.iter().map(|s| s.x).collect();
         let slabs = Slabs::new(&centres, self.comm.size, self.width);
         let me = self.rank();
@@ -162,6 +183,7 @@ impl<'c> RankStep<'c> {
             .map(|&(a, k)| (local[a as usize], k))
             .filter(|&(a, _)| mine(a))
             .collect();
+        list.memory = place(&list.pairs, memories);
         list.builds += 1;
         self.list = Some(list);
         self.built = w
@@ -171,6 +193,18 @@ impl<'c> RankStep<'c> {
             .map(|(s, b)| (s.x, s.rot.q, geom(b, s).half_length))
             .collect();
         self.clocks.rebuilds += 1;
+    }
+
+    /// This rank's pair memories that `keep` accepts, of the pairs whose
+    /// first body it owns (each pair is some rank's once).
+    fn owned_memories(&self, keep: fn(&PairMemory) -> bool) -> Vec<Entry> {
+        let Some(list) = &self.list else {
+            return vec![];
+        };
+        let (owner, me) = (&self.slabs.owner, self.rank());
+        entries(&list.pairs, &list.memory, keep)
+            .filter(|((i, _), _)| owner[*i as usize] as usize == me)
+            .collect()
     }
 
     /// Every rank's owned states (and rotator state) on every rank, or on
@@ -227,6 +261,7 @@ impl<'c> RankStep<'c> {
                 let q = s.rot.q;
                 send.extend(s.x.to_array());
                 send.extend([q.x, q.y, q.z, q.w]);
+                send.push(f64::from(self.motion[i as usize]));
             }
             send_counts.push((to.len() * POSE) as Count);
         }
@@ -240,18 +275,38 @@ impl<'c> RankStep<'c> {
             let s = &mut w.states[i as usize];
             s.x = DVec3::new(d[0], d[1], d[2]);
             s.rot.q = DQuat::from_xyzw(d[3], d[4], d[5], d[6]);
+            // (An f32 sent as f64: exact.)
+            self.motion[i as usize] = d[7] as f32;
         }
     }
 
     /// The force stage: rebuild test, migration or ghost exchange, forces.
     fn forces(&mut self, w: &mut World) {
-        let Some(list) = &self.list else { return };
+        let (Some(list), Some(stage)) = (&self.list, &w.contacts) else {
+            return;
+        };
         let me = self.rank();
         let moved = self.slabs.owned[me].iter().any(|&i| {
             let s = &w.states[i as usize];
             !list.body_within_skin(s.x, s.rot.q, &self.built[i as usize])
         });
+        let (bodies, states) = (&w.scene.bodies, &w.states);
+        self.motion.resize(states.len(), f32::INFINITY);
+        for &i in &self.slabs.owned[me] {
+            let i = i as usize;
+            self.motion[i] = stage.motion_since_last(i, &bodies[i], &states[i]);
+        }
         if self.comm.any(moved) {
+            // Every body's motion from its owner (before the slabs move).
+            let owned = &self.slabs.owned[me];
+            let mine: Vec<f64> = owned
+                .iter()
+                .map(|&i| f64::from(self.motion[i as usize]))
+                .collect();
+            let all = self.comm.all_gather_any(&mine);
+            for (&i, &m) in self.slabs.owned.iter().flatten().zip(&all) {
+                self.motion[i as usize] = m as f32;
+            }
             self.gather_states(w, true);
             self.decompose(w);
         } else {
@@ -259,12 +314,13 @@ impl<'c> RankStep<'c> {
         }
         let t = Instant::now();
         let scene = w.scene;
-        let (Some(stage), Some(list)) = (&mut w.contacts, &self.list) else {
+        let (Some(stage), Some(list)) = (&mut w.contacts, &mut self.list) else {
             return;
         };
         stage.compute_listed(
             list,
             &self.local,
+            &self.motion,
             &scene.bodies,
             &w.states,
             &mut w.force,
@@ -543,6 +599,13 @@ impl<'s> Stepper<'s> for RankStep<'_> {
 
     fn sync(&mut self, w: &mut World<'s>) {
         self.gather_states(w, false);
+        // The memories a checkpoint keeps, on rank 0.
+        let mine = self.owned_memories(PairMemory::kept_by_checkpoints);
+        if let Some((all, _)) = self.comm.gather(&memory::encode(mine.into_iter())) {
+            if let Some(stage) = &mut w.contacts {
+                stage.set_gathered_memories(memory::decode(&all));
+            }
+        }
     }
 
     fn whole_contact_stage(&self) -> bool {

@@ -210,7 +210,7 @@ fn drive_with<'s, R: Rotator, S: Stepper<'s>>(
             Some(c) => {
                 let (states, aux, restored) = checkpoint::restore(c, scene, R::Aux::LEN)?;
                 let damped = checkpoint::restore_damping(c, scene)?;
-                world.restore(states, aux, c.step);
+                world.restore(states, aux, c.step, c.memory.clone());
                 if let Some(d) = damped {
                     world.restore_damping(d);
                 }

@@ -10,6 +10,7 @@
 //! three share.
 
 use super::blend::{push_weighted, smooth_min_c2, Blend, END_TIE_BAND};
+use super::coherence::{memory_unit, Kernel, PairMemory, Recall};
 use super::features::{face_centre, face_face, face_side, rim_face, rim_rim, rim_side, Stationary};
 use super::parry_check::{confirm_separated, parry_contact};
 use super::search::{self, SAME_MINIMUM_COS};
@@ -67,7 +68,20 @@ struct Scan<'g> {
     /// Upper bound of any value that matters (the capsule bound plus both
     /// sags plus the tie band).
     reach: f64,
+    /// The kernel ([`Kernel`]) whose direction is `best_n`, if any.
+    winner: Option<Kernel>,
+    /// A lower bound of every stationary value of the features the scan
+    /// did not run (ends and end pairs beyond `reach`).
+    floor: f64,
+    /// Every kernel answer: its value (a local minimum's, evaluated) or
+    /// lower bound, direction (force on A), and whether a local minimum.
+    answers: [(f64, DVec3, bool); MAX_ANSWERS],
+    answered: usize,
 }
+
+/// Kernel answers of one scan, at most: 2 for each of the 4 ends, 4 for
+/// each of the 4 end pairs.
+const MAX_ANSWERS: usize = 24;
 
 impl<'g> Scan<'g> {
     /// An empty scan of `a` and `b` (nothing found yet), for [`Scan::pass`].
@@ -84,6 +98,10 @@ impl<'g> Scan<'g> {
             failed: false,
             any_near: false,
             reach: f64::INFINITY,
+            winner: None,
+            floor: f64::INFINITY,
+            answers: [(0.0, DVec3::ZERO, false); MAX_ANSWERS],
+            answered: 0,
         }
     }
 
@@ -152,6 +170,11 @@ impl<'g> Scan<'g> {
         // the separation's value).
         let near = |i: usize, j: usize| lb_a[i] <= self.reach && lb_b[j] <= self.reach;
         let (n00, n01, n10, n11) = (near(0, 0), near(0, 1), near(1, 0), near(1, 1));
+        for (i, j, near) in [(0, 0, n00), (0, 1, n01), (1, 0, n10), (1, 1, n11)] {
+            if !near {
+                self.floor = self.floor.min(lb_a[i].max(lb_b[j]));
+            }
+        }
         let gap = (sag_a, sag_b, stop_at_separation);
         let d00 = n00 && self.near_pair((1.0, 1.0), [rim_a[0], rim_b[0]], gap);
         let d01 = n01 && self.near_pair((1.0, -1.0), [rim_a[0], rim_b[1]], gap);
@@ -181,9 +204,11 @@ impl<'g> Scan<'g> {
         from_b: bool,
     ) -> Option<DVec3> {
         if lb <= self.reach {
-            self.feature(face_side(f, sg, o), from_b);
-            self.feature(rim_side(f, sg, o), from_b)
+            self.feature(face_side(f, sg, o), from_b, Kernel::face_side(from_b, sg));
+            self.feature(rim_side(f, sg, o), from_b, Kernel::rim_side(from_b, sg))
         } else {
+            // Every stationary value of this end's features is at least lb.
+            self.floor = self.floor.min(lb);
             None
         }
     }
@@ -200,7 +225,9 @@ impl<'g> Scan<'g> {
     ) -> bool {
         if stop_at_separation {
             let reach = self.reach.min(self.best.max(0.0) + END_TIE_BAND);
-            if end_pair_gap(self.a, sa, self.b, sb) - sag_a - sag_b > reach {
+            let gap = end_pair_gap(self.a, sa, self.b, sb) - sag_a - sag_b;
+            if gap > reach {
+                self.floor = self.floor.min(gap);
                 return true;
             }
         }
@@ -213,12 +240,21 @@ impl<'g> Scan<'g> {
     #[inline(always)]
     fn end_pair(&mut self, (sa, sb): (f64, f64), hints: [Option<DVec3>; 2]) {
         let (a, b) = (self.a, self.b);
-        self.feature(face_face(a, sa, b, sb), false);
-        self.feature(rim_face(a, sa, b, sb), false);
-        self.feature(rim_face(b, sb, a, sa), true);
+        self.feature(face_face(a, sa, b, sb), false, Kernel::face_face(sa, sb));
+        self.feature(
+            rim_face(a, sa, b, sb),
+            false,
+            Kernel::rim_face(false, sa, sb),
+        );
+        self.feature(rim_face(b, sb, a, sa), true, Kernel::rim_face(true, sa, sb));
         // (The best value may have dropped in this loop.)
         let reach = self.reach.min(self.best.max(0.0) + END_TIE_BAND);
-        self.feature(rim_rim(a, sa, b, sb, hints, reach), false);
+        let rims = rim_rim(a, sa, b, sb, hints, reach);
+        if rims.is_none() {
+            // (The rims further apart than `reach`, or no stationary point.)
+            self.floor = self.floor.min(reach);
+        }
+        self.feature(rims, false, Kernel::rim_rim(sa, sb));
     }
 
     /// A cheap axis `±d`: an upper bound, no minimum. Of the two signs only
@@ -238,6 +274,7 @@ impl<'g> Scan<'g> {
         let v = pov(self.a, self.b, n);
         if v < self.best {
             (self.best, self.best_n, self.certified) = (v, n, false);
+            self.winner = None;
         }
     }
 
@@ -247,25 +284,33 @@ impl<'g> Scan<'g> {
     /// (Inlined: called out of line, each answer went through memory, ~30
     /// instructions a call.)
     #[inline(always)]
-    fn feature(&mut self, st: Option<Stationary>, from_b: bool) -> Option<DVec3> {
+    fn feature(&mut self, st: Option<Stationary>, from_b: bool, kernel: Kernel) -> Option<DVec3> {
         let st = st?;
         self.failed |= !st.converged;
         // A value at least `best + END_TIE_BAND` changes nothing below
         // (no new best, no certification, no tied minimum): the kernel's
         // lower bound, less its rounding, proves it without `pov`.
         let rounding = LOWER_ROUNDING * (self.a.radius + self.b.radius);
+        let n = if from_b { -st.n } else { st.n };
         if st.lower - rounding >= self.best + END_TIE_BAND {
+            self.answer(st.lower - rounding, n, st.local_min);
             return Some(st.point);
         }
-        let n = if from_b { -st.n } else { st.n };
         let v = pov(self.a, self.b, n);
+        self.answer(
+            if st.local_min { v } else { st.lower - rounding },
+            n,
+            st.local_min,
+        );
         let tol = CERTIFY_TOL * (self.a.radius + self.b.radius);
         if v < self.best - tol {
             (self.best, self.best_n, self.certified) = (v, n, st.local_min);
+            self.winner = Some(kernel);
         } else if st.local_min && !self.certified && v <= self.best + tol {
             // The same minimum a cheap axis (or an uncertified kernel)
             // reached first: the kernel's direction is the minimiser.
             (self.best, self.best_n, self.certified) = (v.min(self.best), n, true);
+            self.winner = Some(kernel);
         }
         if st.local_min && v < self.best + END_TIE_BAND {
             if self.count < MAX_MINIMA {
@@ -278,6 +323,42 @@ impl<'g> Scan<'g> {
             }
         }
         Some(st.point)
+    }
+
+    /// Note a kernel answer for [`Scan::room`].
+    #[inline(always)]
+    fn answer(&mut self, value: f64, n: DVec3, local_min: bool) {
+        if self.answered < MAX_ANSWERS {
+            self.answers[self.answered] = (value, n, local_min);
+            self.answered += 1;
+        }
+    }
+
+    /// How far the bodies may move (the sum of both motion bounds) before
+    /// another stationary point could become a minimum within the tie
+    /// band of `best`, or the least (coherence.rs): for each answer in
+    /// another direction than `best_n` with a finite value or lower bound
+    /// `ℓ` (which moves by at most the motion, as the points it is made of
+    /// do), `Δ` must stay below `(ℓ − best − band)/2` when `ℓ ≥ best`; an
+    /// answer below `best` is not where the features support (no value is
+    /// below the depth), and gets there only once `ℓ` has risen to the
+    /// depth: `Δ < (best − ℓ)/2`. The ends and pairs not run count with
+    /// their lower bounds (`floor`).
+    fn room(&self) -> f64 {
+        let tol = CERTIFY_TOL * (self.a.radius + self.b.radius);
+        let mut room = 0.5 * (self.floor - self.best - END_TIE_BAND);
+        for &(l, n, local_min) in &self.answers[..self.answered] {
+            if !l.is_finite() || n.dot(self.best_n) >= SAME_MINIMUM_COS {
+                continue;
+            }
+            let r = if local_min || l >= self.best - tol {
+                0.5 * (l - self.best - END_TIE_BAND)
+            } else {
+                0.5 * (self.best - l)
+            };
+            room = room.min(r);
+        }
+        room
     }
 
     fn verdict(&self) -> Verdict {
@@ -383,6 +464,7 @@ pub(super) fn penetration(
 /// "Ties"). `st` are the segments' closest-point parameters. When the scan
 /// is unsure, parry (checked) seeds the iterative search instead (seeded
 /// also by the closest-point normal), counted in `counters.fallbacks`.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn penetration_smoothed(
     a: &FibreGeom,
     b: &FibreGeom,
@@ -391,15 +473,42 @@ pub(super) fn penetration_smoothed(
     weight: f64,
     weight_grad: DVec3,
     counters: &mut KernelCounters,
+    memory: Option<&mut PairMemory>,
 ) {
+    let mut memory = memory;
+    let unit = memory_unit(a, b);
+    if let Some(m) = memory.as_deref_mut() {
+        match m.recall(unit) {
+            Recall::Apart => {
+                counters.remembered += 1;
+                return;
+            }
+            Recall::Touching { kernel, most } => {
+                if let Some(c) = remembered(a, b, kernel, most) {
+                    counters.remembered += 1;
+                    push_weighted(out, c, weight, weight_grad);
+                    return;
+                }
+            }
+            Recall::Nothing => {}
+        }
+        *m = PairMemory::default();
+    }
     counters.end_scans += 1;
     let mut scan = Scan::new(a, b);
     scan.pass(st, true);
     match scan.verdict() {
-        Verdict::Separated => {}
+        Verdict::Separated => {
+            if let Some(m) = memory {
+                // Apart along best_n by −best: no direction's overlap can
+                // turn positive before the bodies move that much.
+                *m = PairMemory::apart(-scan.best, unit);
+            }
+        }
         Verdict::Touching => {
             let first = contact_along(a, b, scan.best_n, scan.best);
-            match scan.runner_up() {
+            let runner = scan.runner_up();
+            match runner {
                 Some((v, n)) if v - scan.best < END_TIE_BAND => {
                     let other = Blend::single(contact_along(a, b, n, v));
                     Blend::single(first)
@@ -407,6 +516,10 @@ pub(super) fn penetration_smoothed(
                         .push(out, a, weight, weight_grad);
                 }
                 _ => push_weighted(out, first, weight, weight_grad),
+            }
+            if let (Some(m), Some(kernel), true) = (memory, scan.winner, scan.certified) {
+                let margin = LOWER_ROUNDING * (a.radius + b.radius);
+                *m = PairMemory::touching(kernel, scan.best, scan.room() - margin, unit);
             }
         }
         Verdict::Unsure => {
@@ -416,6 +529,21 @@ pub(super) fn penetration_smoothed(
             }
         }
     }
+}
+
+/// The depth of a remembered pair by its winner's kernel alone: `None`
+/// (the scan runs) unless the kernel still certifies a local minimum whose
+/// value is positive and at most `most` (`δ* + Δ`, see coherence.rs).
+#[inline(always)]
+fn remembered(a: &FibreGeom, b: &FibreGeom, kernel: Kernel, most: f64) -> Option<Cand> {
+    let (st, from_b) = kernel.eval(a, b);
+    let st = st?;
+    if !(st.local_min && st.converged) {
+        return None;
+    }
+    let n = if from_b { -st.n } else { st.n };
+    let v = pov(a, b, n);
+    (v > 0.0 && v <= most).then(|| contact_along(a, b, n, v))
 }
 
 /// The iterative search of the previous kernel (search.rs), seeded by

@@ -25,6 +25,7 @@
 //! them: docs/contacts.md, "Fibre–fibre".
 
 mod blend;
+mod coherence;
 mod end_involved;
 mod features;
 mod parry_check;
@@ -34,6 +35,7 @@ mod side_side;
 mod support;
 
 pub use blend::{END_TIE_BAND, TIE_BAND};
+pub use coherence::{memory_unit, PairMemory};
 pub use segment::segment_closest_params;
 pub use support::{dome_sag, domed_projection_overlap, projection_overlap, END_FACE_DOME_SIN};
 
@@ -112,6 +114,25 @@ pub fn contact_fibre_fibre(
     out: &mut Vec<ContactPoint>,
     counters: &mut KernelCounters,
 ) {
+    contact_fibre_fibre_remembering(a, b, out, counters, None);
+}
+
+/// [`contact_fibre_fibre`] with the pair's memory of its last end-involved
+/// scan and the sum of both bodies' motion bounds since the last call
+/// (`coherence.rs`): spent, then used where it still holds, renewed by a
+/// scan where it does not.
+#[inline]
+pub fn contact_fibre_fibre_remembering(
+    a: &FibreGeom,
+    b: &FibreGeom,
+    out: &mut Vec<ContactPoint>,
+    counters: &mut KernelCounters,
+    memory: Option<(&mut PairMemory, f64)>,
+) {
+    let memory = memory.map(|(m, motion)| {
+        m.spend(motion, memory_unit(a, b));
+        m
+    });
     let (s, t) = segment_closest_params(a, b);
     let d_seg = (a.centre + s * a.axis - b.centre - t * b.axis).length();
     let bound = a.radius + b.radius - d_seg;
@@ -122,7 +143,7 @@ pub fn contact_fibre_fibre(
 
     // 1. Near-coaxial end to end.
     if sin < COAXIAL_SIN && end_to_end(a, b) {
-        penetration_smoothed(a, b, (s, t), out, 1.0, DVec3::ZERO, counters);
+        penetration_smoothed(a, b, (s, t), out, 1.0, DVec3::ZERO, counters, memory);
         return;
     }
 
@@ -161,5 +182,5 @@ pub fn contact_fibre_fibre(
     } else {
         (1.0, DVec3::ZERO)
     };
-    penetration_smoothed(a, b, (s, t), out, w_pd, g_pd, counters);
+    penetration_smoothed(a, b, (s, t), out, w_pd, g_pd, counters, memory);
 }
