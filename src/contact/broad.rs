@@ -193,6 +193,59 @@ pub fn grid_pairs(aabbs: &[(DVec3, DVec3)], scratch: &mut GridScratch, out: &mut
     out.sort_unstable();
 }
 
+/// A fibre's pose at a list build, in f32 (28 bytes instead of 56): the
+/// reference of the skin test.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct SkinRef {
+    x: [f32; 3],
+    q: [f32; 4],
+}
+
+impl SkinRef {
+    /// The pose `(x, q)`, each number rounded to the nearest f32.
+    pub(crate) fn at(x: DVec3, q: DQuat) -> Self {
+        SkinRef {
+            x: x.as_vec3().to_array(),
+            q: [q.x as f32, q.y as f32, q.z as f32, q.w as f32],
+        }
+    }
+
+    /// `|x − x₀|² + 4h²‖q − q₀‖²` from this reference, for a fibre of half
+    /// length `h` (the square-root-free test above).
+    #[inline(always)]
+    pub(crate) fn moved2(&self, x: DVec3, q: DQuat, h: f64) -> f64 {
+        let x0 = DVec3::new(self.x[0].into(), self.x[1].into(), self.x[2].into());
+        let q0 = DQuat::from_xyzw(
+            self.q[0].into(),
+            self.q[1].into(),
+            self.q[2].into(),
+            self.q[3].into(),
+        );
+        x.distance_squared(x0) + 4.0 * h * h * (q - q0).length_squared()
+    }
+
+    /// How far this reference may be from the exact pose in the end-point
+    /// bound `|Δx| + 2h‖Δq‖`: round-to-nearest moves each number by at
+    /// most 2⁻²⁴ of it, so `x₀` by `2⁻²⁴|x₀|` and the unit `q₀` by `2⁻²⁴`
+    /// (doubled, and rounded up, for the rounding of this sum).
+    fn rounding(&self, h: f64) -> f64 {
+        let x0 = DVec3::new(self.x[0].into(), self.x[1].into(), self.x[2].into());
+        2.0 * (x0.length() + 2.0 * h) / (1u64 << 24) as f64
+    }
+}
+
+/// `(half_skin − largest rounding)² / 2` of the references `built` of
+/// fibres of half lengths `h` (see [`NeighbourList::still_valid`]).
+pub(crate) fn skin_limit2(half_skin: f64, built: &[SkinRef], h: impl Iterator<Item = f64>) -> f64 {
+    let worst = built
+        .iter()
+        .zip(h)
+        .map(|(r, h)| r.rounding(h))
+        .fold(0.0, f64::max);
+    let room = (half_skin - worst).max(0.0);
+    0.5 * room * room
+}
+
 /// Buffers of [`grid_pairs`], kept between builds.
 #[derive(Debug, Clone, Default)]
 pub struct GridScratch {
@@ -219,13 +272,18 @@ pub struct GridScratch {
 /// moves by at most `|Δx| + 2h ‖Δq‖`, since `‖R(q) − R(p)‖ = 2 sin(θ/2) ≤
 /// 4 sin(θ/4) = 2 ‖q − p‖` for unit quaternions (θ the angle between them;
 /// for the other sign of `p` the bound only grows). With
-/// `(a + b)² ≤ 2 (a² + b²)` the test needs no square root. Between builds only the fibres in a candidate
+/// `(a + b)² ≤ 2 (a² + b²)` the test needs no square root. The poses of
+/// the last build are kept in f32 ([`SkinRef`]), their rounding taken off
+/// the half skin. Between builds only the fibres in a candidate
 /// ([`Self::active`]) need their geometry.
 #[derive(Debug, Clone)]
 pub(crate) struct NeighbourList {
     half_skin: f64,
-    /// Centre, orientation and half length of each fibre at the last build.
-    pub(crate) built: Vec<(DVec3, DQuat, f64)>,
+    /// Centre and orientation of each fibre at the last build.
+    pub(crate) built: Vec<SkinRef>,
+    /// `(half skin − the largest rounding of the poses in built)² / 2`:
+    /// the bound of [`SkinRef::moved2`] while the list holds.
+    limit2: f64,
     /// `(body, wall)` candidates, body-major, walls in their order.
     pub(crate) walls: Vec<(u32, u32)>,
     /// `(i, j)` candidates, `i < j`, sorted.
@@ -248,6 +306,7 @@ impl NeighbourList {
         NeighbourList {
             half_skin: 0.5 * skin,
             built: vec![],
+            limit2: 0.0,
             walls: vec![],
             pairs: vec![],
             memory: vec![],
@@ -260,30 +319,35 @@ impl NeighbourList {
     }
 
     /// Whether the list still holds every possible contact of the bodies at
-    /// these poses (centre, orientation).
+    /// these poses (centre, orientation, half length).
     #[inline]
-    pub(crate) fn still_valid(&self, poses: impl ExactSizeIterator<Item = (DVec3, DQuat)>) -> bool {
-        let limit2 = 0.5 * self.half_skin * self.half_skin;
+    pub(crate) fn still_valid(
+        &self,
+        poses: impl ExactSizeIterator<Item = (DVec3, DQuat, f64)>,
+    ) -> bool {
+        // `q − q0` only: a sign flip of q (no rotator makes one) just costs
+        // a rebuild.
         self.built.len() == poses.len()
-            && poses.zip(&self.built).all(|((x, q), &(x0, q0, h))| {
-                // `q − q0` only: a sign flip of q (no rotator makes one) just
-                // costs a rebuild.
-                x.distance_squared(x0) + 4.0 * h * h * (q - q0).length_squared() <= limit2
-            })
+            && poses
+                .zip(&self.built)
+                .all(|((x, q, h), r)| r.moved2(x, q, h) <= self.limit2)
     }
 
-    /// [`Self::still_valid`] over `states`, on the thread pool.
-    pub(crate) fn still_valid_par(&self, states: &[crate::body::BodyState]) -> bool {
+    /// [`Self::still_valid`] over `states` (fibres of half lengths those of
+    /// `geoms`), on the thread pool.
+    pub(crate) fn still_valid_par(
+        &self,
+        states: &[crate::body::BodyState],
+        geoms: &[FibreGeom],
+    ) -> bool {
         use rayon::prelude::*;
-        let limit2 = 0.5 * self.half_skin * self.half_skin;
         self.built.len() == states.len()
+            && geoms.len() == states.len()
             && states
                 .par_iter()
+                .zip(geoms.par_iter())
                 .zip(self.built.par_iter())
-                .all(|(s, &(x0, q0, h))| {
-                    s.x.distance_squared(x0) + 4.0 * h * h * (s.rot.q - q0).length_squared()
-                        <= limit2
-                })
+                .all(|((s, g), r)| r.moved2(s.x, s.rot.q, g.half_length) <= self.limit2)
     }
 
     /// The skin width, m.
@@ -292,15 +356,20 @@ impl NeighbourList {
         2.0 * self.half_skin
     }
 
-    /// Whether one fibre at `(x, q)` is still within the skin of its pose
-    /// `built` at the last build: the test of [`Self::still_valid`] for
-    /// one body (an MPI rank tests the bodies it owns).
+    /// Whether one fibre at `(x, q)`, of half length `h`, is still within
+    /// the skin of its pose `built` at the last build, `limit2` being its
+    /// [`skin_limit2`]: the test of [`Self::still_valid`] for one body (an
+    /// MPI rank tests the bodies it owns).
     #[cfg(feature = "mpi")]
     #[inline]
-    pub(crate) fn body_within_skin(&self, x: DVec3, q: DQuat, built: &(DVec3, DQuat, f64)) -> bool {
-        let limit2 = 0.5 * self.half_skin * self.half_skin;
-        let &(x0, q0, h) = built;
-        x.distance_squared(x0) + 4.0 * h * h * (q - q0).length_squared() <= limit2
+    pub(crate) fn body_within_skin(
+        x: DVec3,
+        q: DQuat,
+        h: f64,
+        built: &SkinRef,
+        limit2: f64,
+    ) -> bool {
+        built.moved2(x, q, h) <= limit2
     }
 
     /// Build the list for the fibres `geoms` at orientations `rotations`.
@@ -318,7 +387,12 @@ impl NeighbourList {
             geoms
                 .iter()
                 .zip(rotations)
-                .map(|(g, q)| (g.centre, q, g.half_length)),
+                .map(|(g, q)| SkinRef::at(g.centre, q)),
+        );
+        self.limit2 = skin_limit2(
+            self.half_skin,
+            &self.built,
+            geoms.iter().map(|g| g.half_length),
         );
         // The boxes live only through the build (memory per fibre).
         let mut boxes = std::mem::take(&mut self.boxes);

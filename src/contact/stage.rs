@@ -240,10 +240,11 @@ impl ContactStage {
         // in a candidate.
         self.geoms.resize(bodies.len(), FibreGeom::default());
         self.motion.resize(bodies.len(), f32::INFINITY);
-        if self
-            .neighbours
-            .still_valid(states.iter().map(|s| (s.x, s.rot.q)))
-        {
+        let poses = states
+            .iter()
+            .zip(&self.geoms)
+            .map(|(s, g)| (s.x, s.rot.q, g.half_length));
+        if self.neighbours.still_valid(poses) {
             for &i in &self.neighbours.active {
                 let i = i as usize;
                 let g = geom(&bodies[i], &states[i]);
@@ -349,8 +350,7 @@ impl ContactStage {
         use rayon::prelude::*;
         self.geoms.resize(bodies.len(), FibreGeom::default());
         self.motion.resize(bodies.len(), f32::INFINITY);
-        let valid =
-            self.neighbours.built.len() == states.len() && self.neighbours.still_valid_par(states);
+        let valid = self.neighbours.still_valid_par(states, &self.geoms);
         self.geoms
             .par_iter_mut()
             .zip(self.motion.par_iter_mut())

@@ -25,7 +25,7 @@ use super::memory;
 use super::slabs::Slabs;
 use super::tally::{self, HitKey};
 use crate::body::BodyState;
-use crate::contact::broad::NeighbourList;
+use crate::contact::broad::{skin_limit2, NeighbourList, SkinRef};
 use crate::contact::fibre_fibre::PairMemory;
 use crate::contact::memory::{entries, place, Entry};
 use crate::contact::stage::{geom, ContactStats};
@@ -63,8 +63,10 @@ pub(crate) struct RankStep<'c> {
     width: f64,
     /// This rank's candidates by global index; `None` without contacts.
     list: Option<NeighbourList>,
-    /// Pose of every body at the last build (centre, orientation, L/2).
-    built: Vec<(DVec3, DQuat, f64)>,
+    /// Pose of every body at the last build, and the bound of the skin
+    /// test of those references (`contact/broad.rs`).
+    built: Vec<SkinRef>,
+    limit2: f64,
     /// Each body's motion bound over the last step, by global index (the
     /// owned bodies' and ghosts' current): what the one-process stage
     /// spends its pairs' memories by. Computed by the owner, whose
@@ -104,6 +106,7 @@ impl<'c> RankStep<'c> {
             width: 0.0,
             list: None,
             built: vec![],
+            limit2: 0.0,
             motion: vec![],
             sends: vec![],
             recvs: vec![],
@@ -186,12 +189,13 @@ impl<'c> RankStep<'c> {
         list.memory = place(&list.pairs, memories);
         list.builds += 1;
         self.list = Some(list);
-        self.built = w
+        self.built = w.states.iter().map(|s| SkinRef::at(s.x, s.rot.q)).collect();
+        let h = w
             .states
             .iter()
             .zip(bodies)
-            .map(|(s, b)| (s.x, s.rot.q, geom(b, s).half_length))
-            .collect();
+            .map(|(s, b)| geom(b, s).half_length);
+        self.limit2 = skin_limit2(0.5 * stage.skin(), &self.built, h);
         self.clocks.rebuilds += 1;
     }
 
@@ -282,13 +286,14 @@ impl<'c> RankStep<'c> {
 
     /// The force stage: rebuild test, migration or ghost exchange, forces.
     fn forces(&mut self, w: &mut World) {
-        let (Some(list), Some(stage)) = (&self.list, &w.contacts) else {
+        let (Some(_), Some(stage)) = (&self.list, &w.contacts) else {
             return;
         };
         let me = self.rank();
         let moved = self.slabs.owned[me].iter().any(|&i| {
             let s = &w.states[i as usize];
-            !list.body_within_skin(s.x, s.rot.q, &self.built[i as usize])
+            let h = geom(&w.scene.bodies[i as usize], s).half_length;
+            !NeighbourList::body_within_skin(s.x, s.rot.q, h, &self.built[i as usize], self.limit2)
         });
         let (bodies, states) = (&w.scene.bodies, &w.states);
         self.motion.resize(states.len(), f32::INFINITY);

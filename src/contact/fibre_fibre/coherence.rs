@@ -106,11 +106,11 @@ impl Kernel {
 }
 
 /// `code` of a pair apart (no kernel).
-const APART: u16 = 0x40;
+const APART: u8 = 0x40;
 /// `code` flag of a memory made at the last computation (by a scan at the
 /// current pose): a checkpoint leaves it out, since the recomputation at
 /// the checkpoint's states makes it again.
-const FRESH: u16 = 0x80;
+const FRESH: u8 = 0x80;
 
 /// Lengths in a pair's memory are counts of `(r_A + r_B)·2⁻²⁰` (9.5 nm for
 /// two 5 mm radii; at most 65 535 of them, 6 % of the radii).
@@ -122,14 +122,16 @@ pub fn memory_unit(a: &FibreGeom, b: &FibreGeom) -> f64 {
     (a.radius + b.radius) * UNIT_PER_RADII
 }
 
-/// What a fibre pair remembers between steps (6 bytes; all zero: nothing,
-/// the next step scans): the winner's [`Kernel`] or [`APART`], the motion
-/// `left` (in [`memory_unit`]s, rounded down) that the bodies may still
-/// make, and for a touching pair `cap`, the largest depth its minimum may
-/// have by then (rounded up): `δ* + Δ` is at most `cap − left`.
+/// What a fibre pair remembers between steps (5 bytes, packed: one per
+/// candidate pair; all zero: nothing, the next step scans): the winner's
+/// [`Kernel`] or [`APART`] (and [`FRESH`]), the motion `left` (in
+/// [`memory_unit`]s, rounded down) that the bodies may still make, and for
+/// a touching pair `cap`, the largest depth its minimum may have by then
+/// (rounded up): `δ* + Δ` is at most `cap − left`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[repr(C, packed)]
 pub struct PairMemory {
-    code: u16,
+    code: u8,
     left: u16,
     cap: u16,
 }
@@ -152,10 +154,12 @@ impl PairMemory {
         if self.code == 0 {
             return;
         }
-        // (NaN: forgotten.)
-        let spent = (motion / unit).ceil();
-        if spent <= f64::from(self.left) {
-            self.left -= spent as u16;
+        // Rounded up (by a whole unit on an exact multiple: `ceil` is a
+        // library call on baseline x86-64). (NaN: forgotten.)
+        let spent = motion / unit + 1.0;
+        let left = self.left;
+        if spent <= f64::from(left) {
+            self.left = left - spent as u16;
             self.code &= !FRESH;
         } else {
             *self = PairMemory::default();
@@ -169,22 +173,23 @@ impl PairMemory {
             0 => Recall::Nothing,
             c if c & APART != 0 => Recall::Apart,
             c => Recall::Touching {
-                kernel: Kernel((c & u16::from(KIND | END_A | END_B)) as u8),
+                kernel: Kernel(c & (KIND | END_A | END_B)),
                 most: f64::from(self.cap - self.left) * unit,
             },
         }
     }
 
     /// Touching at depth `depth` by `kernel`'s minimum, for a motion of
-    /// `room` (m); nothing when the room is under one unit or the cap
-    /// would not fit.
+    /// `room` (m), or less where the cap would not fit its 16 bits;
+    /// nothing when that leaves under one unit.
     #[inline]
     pub(super) fn touching(kernel: Kernel, depth: f64, room: f64, unit: f64) -> Self {
-        let left = (room / unit).floor().min(f64::from(u16::MAX));
-        let cap = ((depth + left * unit) / unit).ceil();
+        let depth = (depth / unit).ceil();
+        let left = (room / unit).min(f64::from(u16::MAX) - depth).floor();
+        let cap = depth + left;
         if left >= 1.0 && cap <= f64::from(u16::MAX) {
             PairMemory {
-                code: u16::from(kernel.0) | FRESH,
+                code: kernel.0 | FRESH,
                 left: left as u16,
                 cap: cap as u16,
             }
@@ -226,16 +231,20 @@ impl PairMemory {
     /// The raw fields `[code, left, cap]`, for checkpoints and MPI.
     #[inline]
     pub fn to_raw(self) -> [u16; 3] {
-        [self.code, self.left, self.cap]
+        [u16::from(self.code), self.left, self.cap]
     }
 
     /// [`PairMemory::to_raw`] back: `None` unless it is a valid touching
     /// memory (a kernel 1–8 with its ends, no other bit, `left ≤ cap`).
     pub fn from_raw([code, left, cap]: [u16; 3]) -> Option<Self> {
-        let kind = code & u16::from(KIND);
-        let known = u16::from(KIND | END_A | END_B) | FRESH;
-        ((1..=u16::from(RIM_RIM)).contains(&kind) && code & !known == 0 && left <= cap)
-            .then_some(PairMemory { code, left, cap })
+        let code = u8::try_from(code).ok()?;
+        let kind = code & KIND;
+        let known = KIND | END_A | END_B | FRESH;
+        ((1..=RIM_RIM).contains(&kind) && code & !known == 0 && left <= cap).then_some(PairMemory {
+            code,
+            left,
+            cap,
+        })
     }
 }
 
@@ -251,7 +260,7 @@ mod tests {
         let unit = 1e-8;
         let k = Kernel::rim_side(false, 1.0);
         let mut m = PairMemory::touching(k, 1.5e-5, 2.05e-7, unit);
-        assert_eq!(m.left, 20);
+        assert_eq!({ m.left }, 20);
         let mut spent = 0.0;
         for step in 0.. {
             m.spend(2.1e-8, unit);
@@ -277,6 +286,10 @@ mod tests {
             PairMemory::touching(k, 1.0, 1e-6, unit),
             PairMemory::default()
         );
+        // A room without bound takes what the cap leaves.
+        let wide = PairMemory::touching(k, 1e-4, f64::INFINITY, unit);
+        assert_eq!((wide.left, wide.cap), (u16::MAX - 10_000, u16::MAX));
+        assert_eq!(std::mem::size_of::<PairMemory>(), 5);
         let mut nan = PairMemory::apart(1e-6, unit);
         nan.spend(f64::NAN, unit);
         assert_eq!(nan, PairMemory::default());
