@@ -544,3 +544,27 @@ fn bad_damped_checkpoints_are_refused() {
         &["no damping state", "rerun from the start"],
     );
 }
+
+/// The pairs' memories of their end-involved scans
+/// (`contact/fibre_fibre/coherence.rs`) are part of the checkpoint: a
+/// remembered contact is the scan's to the scan's rounding, not to its
+/// bits, so a resumed run that scanned every pair again would drift from
+/// the straight one. `bed_1k` at its settling step (its contacts slide,
+/// and memories run out and are made again), 300 steps straight against
+/// 150 + 150. (It fails when the resumed run drops the memories.)
+#[test]
+fn resume_keeps_the_pair_memories() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = format!("{}/scenarios/bed_1k.toml", env!("CARGO_MANIFEST_DIR"));
+    let (whole, split) = (dir.path().join("w"), dir.path().join("s"));
+    let t = ["--dt", "2e-5", "--threads", "1", "-q"];
+    let mut a = vec!["run", &scene, "--out", whole.to_str().unwrap(), "--t-end", "6e-3"];
+    a.extend(t);
+    ok(fibresim(&a));
+    let ckpt = run_checkpointed(&scene, &split, "3e-3", "150", &t);
+    resume_to(&ckpt, "6e-3", &["--threads", "1"]);
+    assert!(
+        read_bytes(&whole.join("energy.csv")) == read_bytes(&split.join("energy.csv")),
+        "energy.csv of the resumed run differs"
+    );
+}

@@ -155,8 +155,10 @@ impl PairMemory {
             return;
         }
         // Rounded up (by a whole unit on an exact multiple: `ceil` is a
-        // library call on baseline x86-64). (NaN: forgotten.)
-        let spent = motion / unit + 1.0;
+        // library call on baseline x86-64); no motion spends nothing (a
+        // resumed run's recomputation at the checkpoint's states). (NaN:
+        // forgotten.)
+        let spent = if motion == 0.0 { 0.0 } else { motion / unit + 1.0 };
         let left = self.left;
         if spent <= f64::from(left) {
             self.left = left - spent as u16;
@@ -290,6 +292,9 @@ mod tests {
         let wide = PairMemory::touching(k, 1e-4, f64::INFINITY, unit);
         assert_eq!((wide.left, wide.cap), (u16::MAX - 10_000, u16::MAX));
         assert_eq!(std::mem::size_of::<PairMemory>(), 5);
+        let mut still = PairMemory::apart(1e-6, unit);
+        still.spend(0.0, unit);
+        assert_eq!({ still.left }, 100, "no motion, nothing spent");
         let mut nan = PairMemory::apart(1e-6, unit);
         nan.spend(f64::NAN, unit);
         assert_eq!(nan, PairMemory::default());
