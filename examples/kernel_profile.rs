@@ -18,11 +18,18 @@
 //! kernel_profile --pairs scenarios/bed_10k.toml OUT   # its end-involved pairs at t = 0, to OUT
 //! kernel_profile --eval OUT [REPEATS] [CONTACTS]      # the kernel on them (and its contacts to CONTACTS)
 //! ```
+//!
+//! `kernel_profile --remembered POSE N` times the pose as a pair that
+//! remembers its scan (`contact/fibre_fibre/coherence.rs`): one scan, then
+//! N calls that run the winner's kernel.
 
 #[path = "../benches/common/poses.rs"]
 mod poses;
 
-use fibresim::contact::{contact_fibre_fibre, ContactPoint, FibreGeom, KernelCounters};
+use fibresim::contact::{
+    contact_fibre_fibre, contact_fibre_fibre_remembering, ContactPoint, FibreGeom, KernelCounters,
+    PairMemory,
+};
 use fibresim::integrate::rotate::{Rotator, RotatorVisitor};
 use fibresim::integrate::step::World;
 use glam::DVec3;
@@ -184,15 +191,25 @@ fn main() {
         }
         return;
     };
-    let count: u64 = args.get(2).map_or(10_000, |c| c.parse().expect("a count"));
+    let remembered = name == "--remembered";
+    let name = if remembered { &args[2] } else { name };
+    let count: u64 = args
+        .get(if remembered { 3 } else { 2 })
+        .map_or(10_000, |c| c.parse().expect("a count"));
     let Some((_, a, b)) = poses.iter().find(|p| p.0 == name) else {
         eprintln!("no pose {name}; run without arguments for the list");
         std::process::exit(2);
     };
     let (mut out, mut k) = (Vec::with_capacity(8), KernelCounters::default());
+    let mut memory = PairMemory::default();
     for _ in 0..count {
         out.clear();
-        contact_fibre_fibre(black_box(a), black_box(b), &mut out, &mut k);
+        if remembered {
+            let m = Some((&mut memory, 0.0));
+            contact_fibre_fibre_remembering(black_box(a), black_box(b), &mut out, &mut k, m);
+        } else {
+            contact_fibre_fibre(black_box(a), black_box(b), &mut out, &mut k);
+        }
         black_box(out.len());
     }
     println!(

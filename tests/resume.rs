@@ -558,7 +558,14 @@ fn resume_keeps_the_pair_memories() {
     let scene = format!("{}/scenarios/bed_1k.toml", env!("CARGO_MANIFEST_DIR"));
     let (whole, split) = (dir.path().join("w"), dir.path().join("s"));
     let t = ["--dt", "2e-5", "--threads", "1", "-q"];
-    let mut a = vec!["run", &scene, "--out", whole.to_str().unwrap(), "--t-end", "6e-3"];
+    let mut a = vec![
+        "run",
+        &scene,
+        "--out",
+        whole.to_str().unwrap(),
+        "--t-end",
+        "6e-3",
+    ];
     a.extend(t);
     ok(fibresim(&a));
     let ckpt = run_checkpointed(&scene, &split, "3e-3", "150", &t);

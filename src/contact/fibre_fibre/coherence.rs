@@ -158,7 +158,11 @@ impl PairMemory {
         // library call on baseline x86-64); no motion spends nothing (a
         // resumed run's recomputation at the checkpoint's states). (NaN:
         // forgotten.)
-        let spent = if motion == 0.0 { 0.0 } else { motion / unit + 1.0 };
+        let spent = if motion == 0.0 {
+            0.0
+        } else {
+            motion / unit + 1.0
+        };
         let left = self.left;
         if spent <= f64::from(left) {
             self.left = left - spent as u16;
