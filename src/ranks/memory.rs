@@ -32,11 +32,11 @@ pub(super) fn encode(entries: impl Iterator<Item = Entry>) -> Vec<f64> {
 pub(super) fn decode(wire: &[f64]) -> Vec<Entry> {
     let mut out: Vec<Entry> = wire
         .chunks_exact(WIRE)
-        .filter_map(|d| {
+        .map(|d| {
             let (p, m) = (d[0].to_bits(), d[1].to_bits());
             let raw = [(m >> 32) as u16, (m >> 16) as u16, m as u16];
             let memory = PairMemory::from_raw(raw).expect("a rank sends touching memories");
-            Some((((p >> 32) as u32, p as u32), memory))
+            (((p >> 32) as u32, p as u32), memory)
         })
         .collect();
     out.sort_unstable_by_key(|e| e.0);
