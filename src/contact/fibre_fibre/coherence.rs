@@ -47,24 +47,26 @@ fn end_bits(sa: f64, sb: f64) -> u8 {
 }
 
 impl Kernel {
+    /// The kernel `on_a` of A's end `s` (`from_b`: `on_b` of B's end).
+    #[inline(always)]
+    fn of_end(from_b: bool, s: f64, on_a: u8, on_b: u8) -> Self {
+        if from_b {
+            Kernel(on_b | end_bits(1.0, s))
+        } else {
+            Kernel(on_a | end_bits(s, 1.0))
+        }
+    }
+
     /// Face–side of A's end `s` on B (`from_b`: of B's end on A).
     #[inline(always)]
     pub(super) fn face_side(from_b: bool, s: f64) -> Self {
-        if from_b {
-            Kernel(FACE_SIDE_B | end_bits(1.0, s))
-        } else {
-            Kernel(FACE_SIDE_A | end_bits(s, 1.0))
-        }
+        Self::of_end(from_b, s, FACE_SIDE_A, FACE_SIDE_B)
     }
 
     /// Rim–side of A's end `s` on B (`from_b`: of B's end on A).
     #[inline(always)]
     pub(super) fn rim_side(from_b: bool, s: f64) -> Self {
-        if from_b {
-            Kernel(RIM_SIDE_B | end_bits(1.0, s))
-        } else {
-            Kernel(RIM_SIDE_A | end_bits(s, 1.0))
-        }
+        Self::of_end(from_b, s, RIM_SIDE_A, RIM_SIDE_B)
     }
 
     /// Face–face of the ends `(sa, sb)`.

@@ -71,7 +71,9 @@ struct Scan<'g> {
     /// The kernel ([`Kernel`]) whose direction is `best_n`, if any.
     winner: Option<Kernel>,
     /// A lower bound of every stationary value of the features the scan
-    /// did not run (ends and end pairs beyond `reach`).
+    /// did not run, or that gave no answer (ends and end pairs beyond
+    /// `reach`, rim–rim pairs with no stationary point within it): what
+    /// [`Scan::room`] counts for them.
     floor: f64,
     /// Every kernel answer: its value (a local minimum's, evaluated) or
     /// lower bound, direction (force on A), and whether a local minimum.
