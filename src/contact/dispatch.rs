@@ -5,7 +5,8 @@
 //! goes in `laws.rs`).
 
 use super::{
-    contact_fibre_fibre, contact_fibre_wall, ContactPoint, FibreGeom, KernelCounters, Wall,
+    contact_fibre_fibre_remembering, contact_fibre_wall, ContactPoint, FibreGeom, KernelCounters,
+    PairMemory, Wall,
 };
 
 /// One side of a candidate pair, as the kernels see it. Every body of a
@@ -28,8 +29,24 @@ pub fn contacts(
     out: &mut Vec<ContactPoint>,
     counters: &mut KernelCounters,
 ) {
+    contacts_remembering(a, b, out, counters, None);
+}
+
+/// [`contacts`] with the pair's memory of its last end-involved scan and
+/// the sum of both bodies' motion bounds since (fibre pairs only; the
+/// contact stage's candidates, `fibre_fibre/coherence.rs`).
+#[inline]
+pub fn contacts_remembering(
+    a: Collider,
+    b: Collider,
+    out: &mut Vec<ContactPoint>,
+    counters: &mut KernelCounters,
+    memory: Option<(&mut PairMemory, f64)>,
+) {
     match (a, b) {
-        (Collider::Fibre(a), Collider::Fibre(b)) => contact_fibre_fibre(a, b, out, counters),
+        (Collider::Fibre(a), Collider::Fibre(b)) => {
+            contact_fibre_fibre_remembering(a, b, out, counters, memory)
+        }
         (Collider::Fibre(f), Collider::Wall(w)) => contact_fibre_wall(f, w, out),
         (Collider::Wall(w), Collider::Fibre(f)) => {
             // The same contacts seen from the wall: forces and the weights'

@@ -28,7 +28,7 @@ pub mod stage;
 pub mod walls;
 
 pub use broad::{aabb, candidate_pairs};
-pub use dispatch::{contacts, Collider};
+pub use dispatch::{contacts, contacts_remembering, Collider};
 pub use fibre_fibre::{contact_fibre_fibre, contact_fibre_fibre_remembering, PairMemory};
 pub use fibre_wall::contact_fibre_wall;
 pub use hertz::HertzLaw;

@@ -14,10 +14,13 @@
 
 use super::broad::NeighbourList;
 use super::damping::{Damping, DampingView};
-use super::fibre_fibre::{contact_fibre_fibre_remembering, PairMemory};
+use super::fibre_fibre::PairMemory;
 use super::laws::LawTable;
 use super::stage::ContactStats;
-use super::{contacts, Collider, ContactPoint, FibreGeom, HertzLaw, KernelCounters, Wall};
+use super::{
+    contacts, contacts_remembering, Collider, ContactPoint, FibreGeom, HertzLaw, KernelCounters,
+    Wall,
+};
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -531,7 +534,8 @@ impl Slots {
                 let (a, b) = (a as usize, b as usize);
                 let (ga, gb) = (&geoms[a], &geoms[b]);
                 let motion = f64::from(motion[a]) + f64::from(motion[b]);
-                contact_fibre_fibre_remembering(ga, gb, buf, c, Some((memory, motion)));
+                let m = Some((memory, motion));
+                contacts_remembering(Collider::Fibre(ga), Collider::Fibre(gb), buf, c, m);
                 if !buf.is_empty() {
                     let law = &laws.fibre_fibre(a, b);
                     out.push(k, buf, law, (ga, a), Some((gb, b)), view);

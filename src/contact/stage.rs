@@ -9,12 +9,13 @@
 
 use super::broad::NeighbourList;
 use super::damping::{Damping, DampingPass, Restitution};
-use super::fibre_fibre::{contact_fibre_fibre_remembering, dome_sag, PairMemory};
+use super::fibre_fibre::{dome_sag, PairMemory};
 use super::laws::LawTable;
 use super::memory::{entries, Entry};
 use super::slots::Slots;
 use super::{
-    box_walls, contacts, Collider, ContactPoint, FibreGeom, HertzLaw, KernelCounters, Wall, Walls,
+    box_walls, contacts, contacts_remembering, Collider, ContactPoint, FibreGeom, HertzLaw,
+    KernelCounters, Wall, Walls,
 };
 use crate::body::{Body, BodyState, Material, Shape};
 use glam::DVec3;
@@ -79,6 +80,14 @@ pub fn geom(body: &Body, s: &BodyState) -> FibreGeom {
 /// (so how much any of its support values changed): the centre's shift
 /// plus the farthest point's `ρ |Δa|` (the least rotation taking one axis
 /// to the other moves a point at distance ρ from the centre by ρ|Δa|).
+/// Put `new` in place of `g`; the motion bound between them.
+#[inline]
+fn move_to(g: &mut FibreGeom, new: FibreGeom) -> f32 {
+    let m = motion_bound(g, &new);
+    *g = new;
+    m
+}
+
 /// Rounded up to f32 (4 bytes a body).
 #[inline]
 pub fn motion_bound(old: &FibreGeom, new: &FibreGeom) -> f32 {
@@ -247,9 +256,7 @@ impl ContactStage {
         if self.neighbours.still_valid(poses) {
             for &i in &self.neighbours.active {
                 let i = i as usize;
-                let g = geom(&bodies[i], &states[i]);
-                self.motion[i] = motion_bound(&self.geoms[i], &g);
-                self.geoms[i] = g;
+                self.motion[i] = move_to(&mut self.geoms[i], geom(&bodies[i], &states[i]));
             }
         } else {
             for (((g, b), s), m) in self
@@ -259,9 +266,7 @@ impl ContactStage {
                 .zip(states)
                 .zip(&mut self.motion)
             {
-                let new = geom(b, s);
-                *m = motion_bound(g, &new);
-                *g = new;
+                *m = move_to(g, geom(b, s));
             }
             let rotations = states.iter().map(|s| s.rot.q);
             self.neighbours.build(&self.geoms, rotations, &self.walls);
@@ -295,9 +300,9 @@ impl ContactStage {
             let (a, b) = (a as usize, b as usize);
             let (ga, gb) = (&self.geoms[a], &self.geoms[b]);
             self.points.clear();
-            contact_fibre_fibre_remembering(
-                ga,
-                gb,
+            contacts_remembering(
+                Collider::Fibre(ga),
+                Collider::Fibre(gb),
                 &mut self.points,
                 &mut self.counters,
                 Some((
@@ -355,11 +360,7 @@ impl ContactStage {
             .par_iter_mut()
             .zip(self.motion.par_iter_mut())
             .zip(bodies.par_iter().zip(states.par_iter()))
-            .for_each(|((g, m), (b, s))| {
-                let new = geom(b, s);
-                *m = motion_bound(g, &new);
-                *g = new;
-            });
+            .for_each(|((g, m), (b, s))| *m = move_to(g, geom(b, s)));
         if !valid {
             let rotations = states.iter().map(|s| s.rot.q);
             self.neighbours.build(&self.geoms, rotations, &self.walls);

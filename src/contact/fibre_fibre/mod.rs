@@ -35,7 +35,8 @@ mod side_side;
 mod support;
 
 pub use blend::{END_TIE_BAND, TIE_BAND};
-pub use coherence::{memory_unit, PairMemory};
+use coherence::memory_unit;
+pub use coherence::PairMemory;
 pub use segment::segment_closest_params;
 pub use support::{dome_sag, domed_projection_overlap, projection_overlap, END_FACE_DOME_SIN};
 
