@@ -78,8 +78,8 @@ fn a_remembered_contact_is_the_scanned_contact() {
     let n = scene.bodies.len();
     let mut memories: HashMap<(u32, u32), PairMemory> = HashMap::new();
     let mut last: Vec<FibreGeom> = vec![FibreGeom::default(); n];
-    let (mut remembered, mut scanned, mut touching_memories, mut fell_back) =
-        (0u64, 0u64, 0u64, 0u64);
+    let (mut remembered, mut scanned, mut touching_memories, mut fell_back, mut passed_over) =
+        (0u64, 0u64, 0u64, 0u64, 0u64);
     let (mut worst, mut boxes, mut pairs) = ([0.0f64; 3], vec![], vec![]);
     for _ in 0..scene.sim.steps() {
         w.step::<Pcdm>().expect("the bed stays stable");
@@ -116,7 +116,9 @@ fn a_remembered_contact_is_the_scanned_contact() {
                 }
             } else {
                 scanned += k.end_scans;
-                // A scan is a scan: the same answer, bit for bit.
+                passed_over += k.capsules_apart;
+                // A scan is a scan, and a pair passed over while its
+                // capsules are apart is apart: the same answer, bit for bit.
                 assert_eq!(m, s, "pair ({i}, {j}) scanned at step {}", w.step);
             }
         }
@@ -126,13 +128,14 @@ fn a_remembered_contact_is_the_scanned_contact() {
         last = g;
     }
     println!(
-        "{remembered} remembered ({touching_memories} touching; the scan fell back on {fell_back}), {scanned} scanned; worst differences where it did not: depth {:e} m, normal {:e}, point {:e} m",
+        "{remembered} remembered ({touching_memories} touching; the scan fell back on {fell_back}), {scanned} scanned, {passed_over} passed over (capsules apart); worst differences where it did not: depth {:e} m, normal {:e}, point {:e} m",
         worst[0], worst[1], worst[2]
     );
     // The memories do the work even at 20× the bed's step: 90 % of the
     // end-involved answers, most of them touching.
     assert!(remembered > 5 * scanned, "{remembered} vs {scanned}");
     assert!(touching_memories > 500_000, "{touching_memories}");
+    assert!(passed_over > 100_000, "{passed_over}");
 }
 
 /// Reference: the scan at each pose. A pair of `bed_10k` over 90 steps

@@ -297,6 +297,44 @@ fn near_coaxial_contacts_match_brute_force_oracle() {
     assert!(worst < 1e-10, "{worst}");
 }
 
+/// Ends tilted past the near-coaxial regime (|sin| 0.04–0.15, past the parallel blend), discs
+/// overlapping sideways by 0.4–1.6 R so that the rims cross: the depth is
+/// rim on rim at a crossing of the rims, which the scan must find and
+/// certify itself (in `bed_10k` such pairs fell back to parry and the
+/// iterative search every step, ~9 a step, until rim–rim started at the
+/// rims' crossings in projection). Depth: the domed oracle's to 1e-10 m;
+/// no pose falls back.
+#[test]
+fn tilted_end_to_end_rims_are_found_by_the_scan() {
+    let mut rng = Rng(0x7117_ed0e_2026_1203);
+    let mut counters = KernelCounters::default();
+    let (mut worst, mut n) = (0.0f64, 0);
+    while n < 60 {
+        let ua = rng.unit();
+        let tilt = (0.04 + 0.11 * rng.next()).asin();
+        let ub = DQuat::from_axis_angle(ua.cross(rng.unit()).normalize(), tilt)
+            * if rng.next() < 0.5 { ua } else { -ua };
+        let side = (0.4 + 1.2 * rng.next()) * R * ua.cross(rng.unit()).normalize();
+        let a = fib(DVec3::ZERO, ua);
+        let b = fib(2.0 * H * ua + side, ub);
+        let (d0, nrm) = oracle(&a, &b, Body::Flat);
+        let target = 2e-5 * rng.next();
+        let b = fib(b.centre - (d0 - target) * nrm, ub);
+        let (domed, _) = oracle(&a, &b, Body::Domed);
+        if domed <= 1e-10 {
+            continue;
+        }
+        let mut c = vec![];
+        contact_fibre_fibre(&a, &b, &mut c, &mut counters);
+        assert_eq!(c.len(), 1, "{a:?} {b:?} {c:?} oracle {domed}");
+        worst = worst.max((c[0].overlap - domed).abs());
+        n += 1;
+    }
+    println!("tilted rims: {n} poses, worst |depth − oracle| {worst:.1e} m; {counters:?}");
+    assert!(worst < 1e-10, "{worst}");
+    assert_eq!(counters.fallbacks, 0, "{counters:?}");
+}
+
 /// Every local minimum of the domed projection overlap the brute force
 /// reaches, lowest first, one per escape direction (normals more than
 /// 1e-3 rad apart): the polished results of the grid's best candidates

@@ -106,6 +106,9 @@ pub struct KernelCounters {
     /// scan (one kernel, or nothing for a pair still apart) instead of a
     /// scan (`fibre_fibre/coherence.rs`).
     pub remembered: u64,
+    /// Fibre pairs passed over while their capsules are still apart by
+    /// more than they moved (the pair's memory, before any regime).
+    pub capsules_apart: u64,
 }
 
 impl std::ops::Add for KernelCounters {
@@ -118,6 +121,7 @@ impl std::ops::Add for KernelCounters {
             end_scans: self.end_scans + o.end_scans,
             fallbacks: self.fallbacks + o.fallbacks,
             remembered: self.remembered + o.remembered,
+            capsules_apart: self.capsules_apart + o.capsules_apart,
         }
     }
 }

@@ -107,8 +107,12 @@ impl Kernel {
     }
 }
 
-/// `code` of a pair apart (no kernel).
+/// `code` of a pair apart (no kernel): by its end-involved scan.
 const APART: u8 = 0x40;
+/// `code` of a pair whose capsules (the axis segments dilated by the
+/// radii, which contain the domed cylinders) are apart: no regime can
+/// touch until they move that much.
+const CAPSULES_APART: u8 = APART | 1;
 /// `code` flag of a memory made at the last computation (by a scan at the
 /// current pose): a checkpoint leaves it out, since the recomputation at
 /// the checkpoint's states makes it again.
@@ -219,6 +223,32 @@ impl PairMemory {
         } else {
             PairMemory::default()
         }
+    }
+
+    /// Capsules apart by more than `gap` (m). A touching memory is kept as
+    /// it is instead: a remembered answer equals the scan's to rounding,
+    /// not bits, so dropping one would change results, not only work.
+    #[inline(always)]
+    pub(super) fn note_capsules_apart(&mut self, gap: f64, unit: f64) {
+        if self.is_touching() {
+            return;
+        }
+        let left = (gap / unit).min(f64::from(u16::MAX));
+        *self = if left >= 1.0 {
+            PairMemory {
+                code: CAPSULES_APART | FRESH,
+                left: left as u16,
+                cap: 0,
+            }
+        } else {
+            PairMemory::default()
+        };
+    }
+
+    /// Whether its capsules are still apart (after [`PairMemory::spend`]).
+    #[inline(always)]
+    pub(super) fn capsules_apart(&self) -> bool {
+        self.code & !FRESH == CAPSULES_APART
     }
 
     /// Whether it changes what the kernel answers (a touching memory) and

@@ -130,14 +130,26 @@ pub fn contact_fibre_fibre_remembering(
     counters: &mut KernelCounters,
     memory: Option<(&mut PairMemory, f64)>,
 ) {
-    let memory = memory.map(|(m, motion)| {
-        m.spend(motion, memory_unit(a, b));
-        m
-    });
+    let memory = match memory {
+        Some((m, motion)) => {
+            m.spend(motion, memory_unit(a, b));
+            if m.capsules_apart() {
+                counters.capsules_apart += 1;
+                return;
+            }
+            Some(m)
+        }
+        None => None,
+    };
     let (s, t) = segment_closest_params(a, b);
     let d_seg = (a.centre + s * a.axis - b.centre - t * b.axis).length();
     let bound = a.radius + b.radius - d_seg;
     if bound <= 0.0 {
+        // Each body's motion bound also bounds its segment points' (their
+        // reach is within ρ), so `d_seg` shrinks by at most their sum.
+        if let Some(m) = memory {
+            m.note_capsules_apart(-bound, memory_unit(a, b));
+        }
         return;
     }
     let sin = a.axis.cross(b.axis).length();

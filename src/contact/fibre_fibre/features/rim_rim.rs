@@ -18,7 +18,7 @@ use std::cmp::Ordering;
 
 /// Newton steps of the rim–rim distance (quadratic convergence from the
 /// plane-crossing start: 3–5 steps on the poses of the tests).
-const RIM_RIM_STEPS: usize = 10;
+const RIM_RIM_STEPS: usize = 20;
 /// Converged when the last step (sum of both angles) is below this (rad).
 const RIM_RIM_TOL: f64 = 1e-10;
 /// Largest angle step (rad): keeps a poor start from jumping across the rim.
@@ -87,6 +87,28 @@ impl Rim {
         };
         let s = (1.0 - c * c).max(0.0).sqrt();
         [(c, s), (c, -s)]
+    }
+}
+
+impl Rim {
+    /// The two angles where this rim crosses, in projection on its own
+    /// plane, the circle of radius `r` about `q`'s projection; `None`
+    /// when the circles do not cross.
+    fn projected_crossings(&self, q: DVec3, r: f64) -> Option<[(f64, f64); 2]> {
+        let (x, y) = ((q - self.e).dot(self.w1), (q - self.e).dot(self.w2));
+        let d2 = x * x + y * y;
+        let d = d2.sqrt();
+        // Along the line of centres at `along` (radius units), off it `off`.
+        let along = (d2 + self.r * self.r - r * r) / (2.0 * d * self.r);
+        if !(along.abs() < 1.0) {
+            return None;
+        }
+        let off = (1.0 - along * along).sqrt();
+        let (ux, uy) = (x / d, y / d);
+        Some([
+            (along * ux - off * uy, along * uy + off * ux),
+            (along * ux + off * uy, along * uy - off * ux),
+        ])
     }
 }
 
@@ -218,7 +240,7 @@ pub(in crate::contact::fibre_fibre) fn rim_rim(
     // hint (a rim point of `f`, then of `o`, near the other body: the
     // rim–side points) with the other rim's point nearest it; the closest
     // pair wins.
-    let mut starts = [((1.0, 0.0), (1.0, 0.0)); 6];
+    let mut starts = [((1.0, 0.0), (1.0, 0.0)); 8];
     let mut k = 1;
     if planes_cross {
         let cf = rf.plane_crossings(eo, o.axis);
@@ -229,6 +251,15 @@ pub(in crate::contact::fibre_fibre) fn rim_rim(
                 starts[k] = (x, y);
                 k += 1;
             }
+        }
+    }
+    // Where the rims cross in projection on `f`'s face plane (discs
+    // overlapping sideways, faces nearly parallel: the facing points are
+    // then inside the other disc, far from the minimum).
+    if let Some(crossings) = rf.projected_crossings(eo, o.radius) {
+        for x in crossings {
+            starts[k] = (x, ro.nearest(rf.at(x)));
+            k += 1;
         }
     }
     if let Some(h) = hints[0] {

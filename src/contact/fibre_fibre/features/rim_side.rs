@@ -14,7 +14,7 @@ use std::cmp::Ordering;
 /// (quadratic convergence from within the basin: 2–4 steps on the poses of
 /// the tests, one for a parallel pair); a step below [`RIM_STEP_TOL`] ends
 /// it.
-const RIM_NEWTON_STEPS: usize = 8;
+const RIM_NEWTON_STEPS: usize = 16;
 /// Converged when the last angle step is below this (rad): the depth is
 /// then exact to ~r·1e-20 and the force direction to 1e-10.
 const RIM_STEP_TOL: f64 = 1e-10;
