@@ -259,8 +259,8 @@ fn main() {
         let k = c.kernel_counters();
         let per = |now: u64, then: u64| (now - then) as f64 / steps as f64;
         println!(
-            "kernels: {:.2} pairs passed over (capsules apart), {:.2} end-involved feature scans and {:.2} remembered answers per fibre per step, {:.1} scans a step fell back to the iterative search, {:.1} parry calls a step",
-            per(k.capsules_apart, start.capsules_apart) / n as f64,
+            "kernels: {:.2} pairs passed over (apart in every regime), {:.2} end-involved feature scans and {:.2} remembered answers per fibre per step, {:.1} scans a step fell back to the iterative search, {:.1} parry calls a step",
+            per(k.passed_over, start.passed_over) / n as f64,
             per(k.end_scans, start.end_scans) / n as f64,
             per(k.remembered, start.remembered) / n as f64,
             per(k.fallbacks, start.fallbacks),

@@ -106,9 +106,10 @@ pub struct KernelCounters {
     /// scan (one kernel, or nothing for a pair still apart) instead of a
     /// scan (`fibre_fibre/coherence.rs`).
     pub remembered: u64,
-    /// Fibre pairs passed over while their capsules are still apart by
-    /// more than they moved (the pair's memory, before any regime).
-    pub capsules_apart: u64,
+    /// Fibre pairs passed over before the regime dispatch: apart in every
+    /// regime by more than they moved since (their memory: capsules apart,
+    /// or cylinders apart away from the parallel band).
+    pub passed_over: u64,
 }
 
 impl std::ops::Add for KernelCounters {
@@ -121,7 +122,7 @@ impl std::ops::Add for KernelCounters {
             end_scans: self.end_scans + o.end_scans,
             fallbacks: self.fallbacks + o.fallbacks,
             remembered: self.remembered + o.remembered,
-            capsules_apart: self.capsules_apart + o.capsules_apart,
+            passed_over: self.passed_over + o.passed_over,
         }
     }
 }

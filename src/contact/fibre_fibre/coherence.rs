@@ -107,12 +107,14 @@ impl Kernel {
     }
 }
 
-/// `code` of a pair apart (no kernel): by its end-involved scan.
+/// `code` of a pair apart (no kernel) in the end-involved regime: its
+/// dispatch runs, and the regime's kernel answers nothing.
 const APART: u8 = 0x40;
-/// `code` of a pair whose capsules (the axis segments dilated by the
-/// radii, which contain the domed cylinders) are apart: no regime can
-/// touch until they move that much.
-const CAPSULES_APART: u8 = APART | 1;
+/// `code` of a pair apart whatever regime it falls in: passed over before
+/// the dispatch (its capsules apart, which contain the domed cylinders; or
+/// its cylinders apart with the axes kept out of the parallel band, where
+/// the side–side regime claims only true overlaps: `fibre_fibre/mod.rs`).
+const APART_ANY_REGIME: u8 = APART | 1;
 /// `code` flag of a memory made at the last computation (by a scan at the
 /// current pose): a checkpoint leaves it out, since the recomputation at
 /// the checkpoint's states makes it again.
@@ -210,13 +212,25 @@ impl PairMemory {
         }
     }
 
-    /// Apart by more than `gap` (m).
+    /// Apart by more than `gap` (m) in the end-involved regime.
     #[inline]
     pub(super) fn apart(gap: f64, unit: f64) -> Self {
-        let left = (gap / unit).floor().min(f64::from(u16::MAX));
+        Self::apart_coded(APART, gap, unit)
+    }
+
+    /// Apart by more than `gap` (m) in every regime.
+    #[inline]
+    pub(super) fn apart_any_regime(gap: f64, unit: f64) -> Self {
+        Self::apart_coded(APART_ANY_REGIME, gap, unit)
+    }
+
+    #[inline(always)]
+    fn apart_coded(code: u8, gap: f64, unit: f64) -> Self {
+        // (`as` truncates: the floor, without its library call.)
+        let left = (gap / unit).min(f64::from(u16::MAX));
         if left >= 1.0 {
             PairMemory {
-                code: APART | FRESH,
+                code: code | FRESH,
                 left: left as u16,
                 cap: 0,
             }
@@ -225,30 +239,22 @@ impl PairMemory {
         }
     }
 
-    /// Capsules apart by more than `gap` (m). A touching memory is kept as
-    /// it is instead: a remembered answer equals the scan's to rounding,
-    /// not bits, so dropping one would change results, not only work.
+    /// Capsules apart by more than `gap` (m): apart in every regime. A
+    /// touching memory is kept as it is instead: a remembered answer equals
+    /// the scan's to rounding, not bits, so dropping one would change
+    /// results, not only work.
     #[inline(always)]
     pub(super) fn note_capsules_apart(&mut self, gap: f64, unit: f64) {
-        if self.is_touching() {
-            return;
+        if !self.is_touching() {
+            *self = Self::apart_any_regime(gap, unit);
         }
-        let left = (gap / unit).min(f64::from(u16::MAX));
-        *self = if left >= 1.0 {
-            PairMemory {
-                code: CAPSULES_APART | FRESH,
-                left: left as u16,
-                cap: 0,
-            }
-        } else {
-            PairMemory::default()
-        };
     }
 
-    /// Whether its capsules are still apart (after [`PairMemory::spend`]).
+    /// Whether the pair is still apart in every regime (after
+    /// [`PairMemory::spend`]): nothing to compute.
     #[inline(always)]
-    pub(super) fn capsules_apart(&self) -> bool {
-        self.code & !FRESH == CAPSULES_APART
+    pub(super) fn passed_over(&self) -> bool {
+        self.code & !FRESH == APART_ANY_REGIME
     }
 
     /// Whether it changes what the kernel answers (a touching memory) and

@@ -17,7 +17,7 @@ use super::search::{self, SAME_MINIMUM_COS};
 use super::segment::segment_closest_params;
 use super::side_side::closest_point_contact;
 use super::support::{dome_sag, domed_projection_overlap as pov, sig, support};
-use super::Cand;
+use super::{room_beyond_parallel, Cand};
 use crate::contact::{ContactPoint, FibreGeom, KernelCounters};
 use glam::DVec3;
 
@@ -503,8 +503,16 @@ pub(super) fn penetration_smoothed(
         Verdict::Separated => {
             if let Some(m) = memory {
                 // Apart along best_n by −best: no direction's overlap can
-                // turn positive before the bodies move that much.
-                *m = PairMemory::apart(-scan.best, unit);
+                // turn positive before the bodies move that much. Passed
+                // over before the dispatch while no other regime can claim
+                // the pair (`room_beyond_parallel`), if that lasts half as
+                // long; else asked again each step, here.
+                let (gap, room) = (-scan.best, room_beyond_parallel(a, b));
+                *m = if room >= 0.5 * gap {
+                    PairMemory::apart_any_regime(gap.min(room), unit)
+                } else {
+                    PairMemory::apart(gap, unit)
+                };
             }
         }
         Verdict::Touching => {

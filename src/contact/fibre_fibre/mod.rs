@@ -60,6 +60,24 @@ pub const PARALLEL_BLEND_SIN: f64 = 0.02;
 /// Below this |sin| an end-to-end pair counts as coaxial (≈ 1.1°).
 pub const COAXIAL_SIN: f64 = 0.02;
 
+/// How far `a` and `b` may move (the sum of their motion bounds) with
+/// their axes kept at `|a×b| ≥` [`PARALLEL_SIN`] (0 when they are not):
+/// `||a'×b'| − |a×b|| ≤ |Δa| + |Δb|`, and a body moving by `m` turns its
+/// axis by at most `m/h` (its motion bound counts a reach `ρ ≥ h`). While
+/// they are, the parallel weight is 0, so the side–side regime contributes
+/// only for interior closest points, whose contact (`bound > 0`) is a true
+/// overlap (the point `p_A − t n`, `t ∈ [d − r_B, r_A]`, lies in both
+/// finite cylinders), and regime 1 not at all: a pair whose cylinders are
+/// apart can only be regime 3's, which answers nothing for it either.
+/// (Inside the band the side–side end model, capsule-like near the other's
+/// end, can touch such a pair: given weight 1 past the band, it does in
+/// `tests/contact_memory.rs`.)
+#[inline]
+pub(super) fn room_beyond_parallel(a: &FibreGeom, b: &FibreGeom) -> f64 {
+    let sin = a.axis.cross(b.axis).length();
+    ((sin - PARALLEL_SIN) * a.half_length.min(b.half_length)).max(0.0)
+}
+
 /// A candidate contact with A's force normal.
 #[derive(Clone, Copy)]
 struct Cand {
@@ -133,8 +151,8 @@ pub fn contact_fibre_fibre_remembering(
     let memory = match memory {
         Some((m, motion)) => {
             m.spend(motion, memory_unit(a, b));
-            if m.capsules_apart() {
-                counters.capsules_apart += 1;
+            if m.passed_over() {
+                counters.passed_over += 1;
                 return;
             }
             Some(m)
@@ -196,4 +214,63 @@ pub fn contact_fibre_fibre_remembering(
         (1.0, DVec3::ZERO)
     };
     penetration_smoothed(a, b, (s, t), out, w_pd, g_pd, counters, memory);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::stage::motion_bound;
+    use glam::DQuat;
+
+    /// Reference: the definition of the room. B turned about its centre
+    /// straight towards A's axis (the fastest way into the band) by as
+    /// much as a motion bound of `room_beyond_parallel` allows stays out
+    /// of the band.
+    #[test]
+    fn the_room_keeps_the_axes_out_of_the_parallel_band() {
+        let a = FibreGeom {
+            centre: DVec3::ZERO,
+            axis: DVec3::X,
+            radius: 0.005,
+            half_length: 0.015,
+        };
+        for sin in [0.036, 0.05, 0.2, 0.7, 1.0] {
+            let tilt = f64::asin(sin);
+            let b = |angle: f64| FibreGeom {
+                centre: DVec3::new(0.01, 0.02, 0.0),
+                axis: DQuat::from_rotation_z(angle) * DVec3::X,
+                radius: 0.004,
+                half_length: 0.012,
+            };
+            let room = room_beyond_parallel(&a, &b(tilt));
+            // The largest turn whose motion bound is within the room.
+            let (mut lo, mut hi) = (0.0, tilt);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if f64::from(motion_bound(&b(tilt), &b(tilt - mid))) <= room {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            let turned = b(tilt - lo);
+            let sin_after = a.axis.cross(turned.axis).length();
+            assert!(
+                sin_after >= PARALLEL_SIN,
+                "{sin}: {sin_after} after {lo} rad"
+            );
+            // (Near the band the turn is nearly all lost sine: tight.)
+            if sin <= 0.05 {
+                assert!(
+                    sin_after < PARALLEL_SIN + 0.1 * (sin - PARALLEL_SIN),
+                    "{sin}: loose"
+                );
+            }
+        }
+        let parallel = FibreGeom {
+            axis: DVec3::new(1.0, 0.03, 0.0).normalize(),
+            ..a
+        };
+        assert_eq!(room_beyond_parallel(&a, &parallel), 0.0);
+    }
 }

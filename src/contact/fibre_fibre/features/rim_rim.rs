@@ -5,7 +5,8 @@
 //! squared distance `½|x(φ) − p(ψ)|²`, with the analytic Hessian, at most
 //! [`RIM_RIM_STEPS`] steps, from the closest of: where the rims cross each
 //! other's face planes (or, for near-parallel faces, on the line of the face
-//! centres), and the rim–side points of the two rims (a rim point nearest
+//! centres), where they cross in projection on one face plane (discs
+//! overlapping sideways), and the rim–side points of the two rims (a rim point nearest
 //! the other's axis that lies beyond the other's end plane is next to a
 //! rim–rim minimum). When it does not converge, a branch and bound on the
 //! rims' distance ([`rims_apart`]) may still show that no value of the
@@ -88,9 +89,7 @@ impl Rim {
         let s = (1.0 - c * c).max(0.0).sqrt();
         [(c, s), (c, -s)]
     }
-}
 
-impl Rim {
     /// The two angles where this rim crosses, in projection on its own
     /// plane, the circle of radius `r` about `q`'s projection; `None`
     /// when the circles do not cross.
@@ -100,7 +99,8 @@ impl Rim {
         let d = d2.sqrt();
         // Along the line of centres at `along` (radius units), off it `off`.
         let along = (d2 + self.r * self.r - r * r) / (2.0 * d * self.r);
-        if !(along.abs() < 1.0) {
+        // (NaN, for concentric circles, is no crossing either.)
+        if along.abs().partial_cmp(&1.0) != Some(Ordering::Less) {
             return None;
         }
         let off = (1.0 - along * along).sqrt();
