@@ -547,5 +547,7 @@ fn bed_pairs_match_brute_force_oracle() {
     );
     assert!(counters > 30_000 && checked > 1_900, "{counters} {checked}");
     assert_eq!(total.parry_unconfirmed, 0);
-    assert!(total.fallbacks * 500 <= total.end_scans, "{total:?}");
+    // At most 1 in 4000 scans falls back (4 of 32 324; 22 before rim–rim
+    // started at the rims' crossings in projection and took 20 steps).
+    assert!(total.fallbacks * 4000 <= total.end_scans, "{total:?}");
 }
