@@ -266,6 +266,19 @@ fn end_involved_contacts_match_brute_force_oracle() {
     assert_eq!(counters.parry_unconfirmed, 0);
 }
 
+/// A along `ua` at the origin and B along `ub` end to end with it, offset
+/// sideways by `side`, moved along the flat oracle's direction to a depth of
+/// 0–20 µm; and the domed oracle's depth.
+fn end_to_end(rng: &mut Rng, ua: DVec3, ub: DVec3, side: DVec3) -> (FibreGeom, FibreGeom, f64) {
+    let a = fib(DVec3::ZERO, ua);
+    let b = fib(2.0 * H * ua + side, ub);
+    let (d0, nrm) = oracle(&a, &b, Body::Flat);
+    let target = 2e-5 * rng.next();
+    let b = fib(b.centre - (d0 - target) * nrm, ub);
+    let (domed, _) = oracle(&a, &b, Body::Domed);
+    (a, b, domed)
+}
+
 /// Regime 1 (near-coaxial end to end, no parry) against the same oracle:
 /// tilts below COAXIAL_SIN, lateral offsets up to R (the face centre over
 /// the other face), axial depths 0–20 µm.
@@ -280,12 +293,7 @@ fn near_coaxial_contacts_match_brute_force_oracle() {
         let ub = DQuat::from_axis_angle(ua.any_orthonormal_vector(), tilt)
             * if rng.next() < 0.5 { ua } else { -ua };
         let lateral = R * rng.next() * ua.cross(rng.unit()).normalize();
-        let a = fib(DVec3::ZERO, ua);
-        let b = fib(2.0 * H * ua + lateral, ub);
-        let (d0, nrm) = oracle(&a, &b, Body::Flat);
-        let target = 2e-5 * rng.next();
-        let b = fib(b.centre - (d0 - target) * nrm, ub);
-        let (domed, _) = oracle(&a, &b, Body::Domed);
+        let (a, b, domed) = end_to_end(&mut rng, ua, ub, lateral);
         let c = ff_contacts(&a, &b);
         if domed > 1e-10 {
             assert_eq!(c.len(), 1, "{a:?} {b:?} {c:?} oracle {domed}");
@@ -315,12 +323,7 @@ fn tilted_end_to_end_rims_are_found_by_the_scan() {
         let ub = DQuat::from_axis_angle(ua.cross(rng.unit()).normalize(), tilt)
             * if rng.next() < 0.5 { ua } else { -ua };
         let side = (0.4 + 1.2 * rng.next()) * R * ua.cross(rng.unit()).normalize();
-        let a = fib(DVec3::ZERO, ua);
-        let b = fib(2.0 * H * ua + side, ub);
-        let (d0, nrm) = oracle(&a, &b, Body::Flat);
-        let target = 2e-5 * rng.next();
-        let b = fib(b.centre - (d0 - target) * nrm, ub);
-        let (domed, _) = oracle(&a, &b, Body::Domed);
+        let (a, b, domed) = end_to_end(&mut rng, ua, ub, side);
         if domed <= 1e-10 {
             continue;
         }
