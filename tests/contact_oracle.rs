@@ -338,6 +338,80 @@ fn tilted_end_to_end_rims_are_found_by_the_scan() {
     assert_eq!(counters.fallbacks, 0, "{counters:?}");
 }
 
+/// Rims that roll along each other: L corners of `bed_10k` near 90° whose
+/// rim–rim distance has a nearly singular Hessian along the roll that
+/// changes sign close by, so the plain Newton iteration cycled and the scan
+/// fell back every step (3 such pairs a step). The descent that follows a
+/// failed iteration finds their minimum: no fallback, and the depth is the
+/// domed oracle's to 1e-10 m.
+#[test]
+fn rolling_rims_are_found_by_the_scan() {
+    let poses: [[f64; 12]; 3] = [
+        [
+            0.10581828738957268,
+            0.03273777746241601,
+            0.19913533299325167,
+            -0.21322300433327723,
+            0.2215982326780374,
+            -0.9515409469365976,
+            0.10600353997614907,
+            0.03672686002564064,
+            0.22151828749538224,
+            -0.3715995871068585,
+            0.8718970131273958,
+            0.31891902633989955,
+        ],
+        [
+            0.27141684474433575,
+            0.17911017095770274,
+            0.21462717705647305,
+            -0.38712735681896904,
+            -0.9143878640429048,
+            0.11843666532530212,
+            0.28454549685348235,
+            0.16355061883162555,
+            0.22429078366079497,
+            -0.8607740609864241,
+            0.3240920915872458,
+            -0.39246953015943203,
+        ],
+        [
+            0.26864571519759134,
+            0.23338568814836097,
+            0.31016117214318156,
+            0.30863147215869857,
+            -0.7482053767513653,
+            -0.5873119516862213,
+            0.2588343827605436,
+            0.21353730823218928,
+            0.31327393067786313,
+            0.6422828952465236,
+            0.6187270336599091,
+            -0.4523820733540997,
+        ],
+    ];
+    let mut counters = KernelCounters::default();
+    for v in poses {
+        let fibre = |k: usize| FibreGeom {
+            centre: DVec3::new(v[k], v[k + 1], v[k + 2]),
+            axis: DVec3::new(v[k + 3], v[k + 4], v[k + 5]),
+            radius: 0.005,
+            half_length: 0.015,
+        };
+        let (a, b) = (fibre(0), fibre(6));
+        let (domed, _) = oracle(&a, &b, Body::Domed);
+        let mut c = vec![];
+        contact_fibre_fibre(&a, &b, &mut c, &mut counters);
+        assert_eq!(c.len(), 1, "{a:?} {b:?} {c:?} oracle {domed}");
+        assert!(
+            (c[0].overlap - domed).abs() < 1e-10,
+            "{} vs {domed}",
+            c[0].overlap
+        );
+    }
+    assert_eq!(counters.fallbacks, 0, "{counters:?}");
+}
+
 /// Every local minimum of the domed projection overlap the brute force
 /// reaches, lowest first, one per escape direction (normals more than
 /// 1e-3 rad apart): the polished results of the grid's best candidates

@@ -8,9 +8,11 @@
 //! centres), where they cross in projection on one face plane (discs
 //! overlapping sideways), and the rim–side points of the two rims (a rim point nearest
 //! the other's axis that lies beyond the other's end plane is next to a
-//! rim–rim minimum). When it does not converge, a branch and bound on the
-//! rims' distance ([`rims_apart`]) may still show that no value of the
-//! pair matters.
+//! rim–rim minimum). When it does not converge, a descent from the same
+//! start (Newton's step where the Hessian is positive definite, else along
+//! its least curvature, halved until the distance decreases) looks for the
+//! minimum, and failing that a branch and bound on the rims' distance
+//! ([`rims_apart`]) may still show that no value of the pair matters.
 
 use super::{cap_supports, face_centre, perp, rim_supports, Stationary};
 use crate::contact::FibreGeom;
@@ -20,6 +22,9 @@ use std::cmp::Ordering;
 /// Newton steps of the rim–rim distance (quadratic convergence from the
 /// plane-crossing start: 3–5 steps on the poses of the tests).
 const RIM_RIM_STEPS: usize = 20;
+/// Most steps of the descent that follows a plain iteration that did not
+/// converge (rims rolling along each other: 5–6 on `bed_10k`'s).
+const RIM_RIM_DESCENT_STEPS: usize = 40;
 /// Converged when the last step (sum of both angles) is below this (rad).
 const RIM_RIM_TOL: f64 = 1e-10;
 /// Largest angle step (rad): keeps a poor start from jumping across the rim.
@@ -280,17 +285,26 @@ pub(in crate::contact::fibre_fibre) fn rim_rim(
             (nearest, pf, po) = (d, x, y);
         }
     }
-    let mut converged = false;
-    let (mut h11, mut h22, mut h12) = (0.0, 0.0, 0.0);
-    for _ in 0..RIM_RIM_STEPS {
+    // F = ½|x − p|²: ∂F/∂φ = d·x', ∂F/∂ψ = −d·p'; x'' = −(x − e_o). The
+    // gradient and the Hessian `(h11, h22, h12)`.
+    let derivatives = |po: (f64, f64), pf: (f64, f64)| {
         let (x, p) = (ro.at(po), rf.at(pf));
         let (tx, tp) = (ro.tangent(po), rf.tangent(pf));
         let d = x - p;
-        // F = ½|x − p|²: ∂F/∂φ = d·x', ∂F/∂ψ = −d·p'; x'' = −(x − e_o).
-        let (g1, g2) = (d.dot(tx), -d.dot(tp));
-        h11 = tx.dot(tx) - d.dot(x - ro.e);
-        h22 = tp.dot(tp) + d.dot(p - rf.e);
-        h12 = -tx.dot(tp);
+        let g = (d.dot(tx), -d.dot(tp));
+        let h = (
+            tx.dot(tx) - d.dot(x - ro.e),
+            tp.dot(tp) + d.dot(p - rf.e),
+            -tx.dot(tp),
+        );
+        (g, h)
+    };
+    let start = (pf, po);
+    let mut converged = false;
+    let (mut h11, mut h22, mut h12) = (0.0, 0.0, 0.0);
+    for _ in 0..RIM_RIM_STEPS {
+        let ((g1, g2), h) = derivatives(po, pf);
+        (h11, h22, h12) = h;
         let det = h11 * h22 - h12 * h12;
         if det.abs().partial_cmp(&(1e-30 * (ro.r * rf.r).powi(2))) != Some(Ordering::Greater) {
             break;
@@ -302,6 +316,58 @@ pub(in crate::contact::fibre_fibre) fn rim_rim(
         if dphi.abs() + dpsi.abs() < RIM_RIM_TOL {
             converged = true;
             break;
+        }
+    }
+    if !converged {
+        // Rims that roll along each other (an L corner near 90°): the
+        // Hessian is nearly singular along the roll and changes sign close
+        // by, and the plain iteration cycles. Again from the start, as a
+        // descent: Newton's step where the Hessian is positive definite,
+        // else a full step along its least curvature's eigenvector,
+        // downhill; each halved until the distance decreases.
+        (pf, po) = start;
+        let dist2 = |po: (f64, f64), pf: (f64, f64)| (ro.at(po) - rf.at(pf)).length_squared();
+        let mut now = dist2(po, pf);
+        for _ in 0..RIM_RIM_DESCENT_STEPS {
+            let ((g1, g2), h) = derivatives(po, pf);
+            (h11, h22, h12) = h;
+            let det = h11 * h22 - h12 * h12;
+            let (dphi, dpsi) = if h11 > 0.0 && det > 0.0 {
+                (-(h22 * g1 - h12 * g2) / det, -(h11 * g2 - h12 * g1) / det)
+            } else {
+                // Along the eigenvector of the least curvature, downhill.
+                let least = 0.5 * (h11 + h22 - ((h11 - h22).powi(2) + 4.0 * h12 * h12).sqrt());
+                let (v1, v2) = if (h11 - least).abs() > (h22 - least).abs() {
+                    (h12, least - h11)
+                } else {
+                    (least - h22, h12)
+                };
+                let l = (v1 * v1 + v2 * v2).sqrt();
+                let down = if g1 * v1 + g2 * v2 > 0.0 {
+                    -MAX_STEP
+                } else {
+                    MAX_STEP
+                } / l;
+                (down * v1, down * v2)
+            };
+            let (dphi, dpsi) = (
+                dphi.clamp(-MAX_STEP, MAX_STEP),
+                dpsi.clamp(-MAX_STEP, MAX_STEP),
+            );
+            let mut t = 1.0;
+            let (qo, qf, v) = loop {
+                let (qo, qf) = (turn(po, t * dphi), turn(pf, t * dpsi));
+                let v = dist2(qo, qf);
+                if v <= now || t < 1e-6 {
+                    break (qo, qf, v);
+                }
+                t *= 0.5;
+            };
+            (po, pf, now) = (qo, qf, v);
+            if t * (dphi.abs() + dpsi.abs()) < RIM_RIM_TOL {
+                converged = h11 > 0.0 && det > 0.0;
+                break;
+            }
         }
     }
     // Not converged (a start in a saddle's basin): no stationary value
