@@ -63,6 +63,9 @@ struct Scan<'g> {
     count: usize,
     /// A kernel did not converge.
     failed: bool,
+    /// A kernel's answer came from rim–rim's descent
+    /// ([`Stationary::descended`]): no memory.
+    descended: bool,
     /// Some end is near enough to touch.
     any_near: bool,
     /// Upper bound of any value that matters (the capsule bound plus both
@@ -98,6 +101,7 @@ impl<'g> Scan<'g> {
             minima: [(0.0, DVec3::ZERO); MAX_MINIMA],
             count: 0,
             failed: false,
+            descended: false,
             any_near: false,
             reach: f64::INFINITY,
             winner: None,
@@ -289,6 +293,7 @@ impl<'g> Scan<'g> {
     fn feature(&mut self, st: Option<Stationary>, from_b: bool, kernel: Kernel) -> Option<DVec3> {
         let st = st?;
         self.failed |= !st.converged;
+        self.descended |= st.descended;
         // A value at least `best + END_TIE_BAND` changes nothing below
         // (no new best, no certification, no tied minimum): the kernel's
         // lower bound, less its rounding, proves it without `pov`.
@@ -527,7 +532,9 @@ pub(super) fn penetration_smoothed(
                 }
                 _ => push_weighted(out, first, weight, weight_grad),
             }
-            if let (Some(m), Some(kernel), true) = (memory, scan.winner, scan.certified) {
+            if let (Some(m), Some(kernel), true, false) =
+                (memory, scan.winner, scan.certified, scan.descended)
+            {
                 let margin = LOWER_ROUNDING * (a.radius + b.radius);
                 *m = PairMemory::touching(kernel, scan.best, scan.room() - margin, unit);
             }

@@ -33,5 +33,6 @@ pub(in crate::contact::fibre_fibre) fn face_face(
         lower,
         local_min,
         converged: true,
+        descended: false,
     })
 }

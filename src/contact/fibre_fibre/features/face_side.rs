@@ -41,5 +41,6 @@ pub(in crate::contact::fibre_fibre) fn face_side(
         lower,
         local_min: capped && between_end_planes(o, point),
         converged: true,
+        descended: false,
     })
 }

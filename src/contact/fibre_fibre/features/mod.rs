@@ -62,6 +62,11 @@ pub(super) struct Stationary {
     /// The iteration converged (always true for closed forms). A kernel
     /// that did not is the one reason the end-involved scan falls back.
     pub(super) converged: bool,
+    /// Found by rim–rim's descent after its Newton iteration failed: the
+    /// stationary point Newton was heading for (a saddle, which may become
+    /// a minimum) is not among the scan's answers, so the scan's room
+    /// would not count it and its pair remembers nothing.
+    pub(super) descended: bool,
 }
 
 /// Centre of end `sigma`'s face (the rim circle's centre).

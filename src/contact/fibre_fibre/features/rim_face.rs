@@ -45,5 +45,6 @@ pub(in crate::contact::fibre_fibre) fn rim_face(
         lower,
         local_min: capped && rim_supports(f, -n, sf, p),
         converged: true,
+        descended: false,
     })
 }

@@ -318,7 +318,8 @@ pub(in crate::contact::fibre_fibre) fn rim_rim(
             break;
         }
     }
-    if !converged {
+    let descended = !converged;
+    if descended {
         // Rims that roll along each other (an L corner near 90°): the
         // Hessian is nearly singular along the roll and changes sign close
         // by, and the plain iteration cycles. Again from the start, as a
@@ -401,5 +402,6 @@ pub(in crate::contact::fibre_fibre) fn rim_rim(
         lower: n.dot(d),
         local_min: converged && positive_curvature && pick.is_some(),
         converged,
+        descended,
     })
 }

@@ -180,6 +180,7 @@ pub(in crate::contact::fibre_fibre) fn rim_side(
                         lower: o.radius - m.dot(q - o.centre),
                         local_min: true,
                         converged: true,
+                        descended: false,
                     });
                 }
             }
@@ -193,5 +194,6 @@ pub(in crate::contact::fibre_fibre) fn rim_side(
         lower: o.radius - n.dot(p - o.centre),
         local_min: converged && rim_supports(f, -n, sf, p) && between_end_planes(o, p),
         converged,
+        descended: false,
     })
 }
