@@ -76,11 +76,7 @@ pub fn geom(body: &Body, s: &BodyState) -> FibreGeom {
     }
 }
 
-/// A bound on how far any point of the fibre moved from `old` to `new`
-/// (so how much any of its support values changed): the centre's shift
-/// plus the farthest point's `ρ |Δa|` (the least rotation taking one axis
-/// to the other moves a point at distance ρ from the centre by ρ|Δa|).
-/// Put `new` in place of `g`; the motion bound between them.
+/// Put `new` in place of `g`; the [`motion_bound`] between them.
 #[inline]
 fn move_to(g: &mut FibreGeom, new: FibreGeom) -> f32 {
     let m = motion_bound(g, &new);
@@ -88,6 +84,10 @@ fn move_to(g: &mut FibreGeom, new: FibreGeom) -> f32 {
     m
 }
 
+/// A bound on how far any point of the fibre moved from `old` to `new`
+/// (so how much any of its support values changed): the centre's shift
+/// plus the farthest point's `ρ |Δa|` (the least rotation taking one axis
+/// to the other moves a point at distance ρ from the centre by ρ|Δa|).
 /// Rounded up to f32 (4 bytes a body).
 #[inline]
 pub fn motion_bound(old: &FibreGeom, new: &FibreGeom) -> f32 {

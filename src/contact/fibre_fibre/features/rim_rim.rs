@@ -117,6 +117,13 @@ impl Rim {
     }
 }
 
+/// Newton's step `−H⁻¹ g` for the gradient `g` and the Hessian
+/// `(h11, h22, h12)` of determinant `det`.
+#[inline(always)]
+fn newton((g1, g2): (f64, f64), (h11, h22, h12): (f64, f64, f64), det: f64) -> (f64, f64) {
+    (-(h22 * g1 - h12 * g2) / det, -(h11 * g2 - h12 * g1) / det)
+}
+
 /// Initial intervals of [`rims_apart`] (half-width π/16).
 const APART_INTERVALS: usize = 16;
 /// Most distance evaluations of [`rims_apart`] before it gives up.
@@ -309,8 +316,11 @@ pub(in crate::contact::fibre_fibre) fn rim_rim(
         if det.abs().partial_cmp(&(1e-30 * (ro.r * rf.r).powi(2))) != Some(Ordering::Greater) {
             break;
         }
-        let dphi = (-(h22 * g1 - h12 * g2) / det).clamp(-MAX_STEP, MAX_STEP);
-        let dpsi = (-(h11 * g2 - h12 * g1) / det).clamp(-MAX_STEP, MAX_STEP);
+        let (dphi, dpsi) = newton((g1, g2), h, det);
+        let (dphi, dpsi) = (
+            dphi.clamp(-MAX_STEP, MAX_STEP),
+            dpsi.clamp(-MAX_STEP, MAX_STEP),
+        );
         po = turn(po, dphi);
         pf = turn(pf, dpsi);
         if dphi.abs() + dpsi.abs() < RIM_RIM_TOL {
@@ -334,7 +344,7 @@ pub(in crate::contact::fibre_fibre) fn rim_rim(
             (h11, h22, h12) = h;
             let det = h11 * h22 - h12 * h12;
             let (dphi, dpsi) = if h11 > 0.0 && det > 0.0 {
-                (-(h22 * g1 - h12 * g2) / det, -(h11 * g2 - h12 * g1) / det)
+                newton((g1, g2), h, det)
             } else {
                 // Along the eigenvector of the least curvature, downhill.
                 let least = 0.5 * (h11 + h22 - ((h11 - h22).powi(2) + 4.0 * h12 * h12).sqrt());
