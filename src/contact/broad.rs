@@ -333,21 +333,17 @@ impl NeighbourList {
                 .all(|((x, q, h), r)| r.moved2(x, q, h) <= self.limit2)
     }
 
-    /// [`Self::still_valid`] over `states` (fibres of half lengths those of
-    /// `geoms`), on the thread pool.
-    pub(crate) fn still_valid_par(
+    /// [`Self::still_valid`] one body at a time, for a pass that also does
+    /// other per-body work (the pool's geometry update): `None` when the
+    /// list was built for another number of bodies (`n`), else the test of
+    /// body `i` at `(x, q)`, of half length `h`.
+    #[inline]
+    pub(crate) fn within_skin(
         &self,
-        states: &[crate::body::BodyState],
-        geoms: &[FibreGeom],
-    ) -> bool {
-        use rayon::prelude::*;
-        self.built.len() == states.len()
-            && geoms.len() == states.len()
-            && states
-                .par_iter()
-                .zip(geoms.par_iter())
-                .zip(self.built.par_iter())
-                .all(|((s, g), r)| r.moved2(s.x, s.rot.q, g.half_length) <= self.limit2)
+        n: usize,
+    ) -> Option<impl Fn(usize, DVec3, DQuat, f64) -> bool + Sync + '_> {
+        (self.built.len() == n)
+            .then_some(move |i: usize, x, q, h| self.built[i].moved2(x, q, h) <= self.limit2)
     }
 
     /// The skin width, m.

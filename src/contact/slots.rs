@@ -24,15 +24,40 @@ use super::{
 use glam::DVec3;
 use rayon::prelude::*;
 
-/// One contact point's share of a candidate's wrench, computed once: the
-/// force on A (elastic plus damping) and where it acts, and what the
-/// statistics need. The torques are rebuilt in the gather with the serial
-/// stage's expression, `(p − c) × F (+ couple)`, from the body's own centre:
-/// 56 bytes a point instead of the 80 of force and both torques.
+/// One contact point's loads on its two bodies, computed once with the
+/// serial stage's expressions: the force on A (B gets minus it) and the
+/// torques `(p − c) × F (+ couple)` about each body's own centre (A's
+/// added, B's subtracted). With the torques made here, where the kernel
+/// has both centres at hand, the gather only adds: it reads no geometry
+/// (when it rebuilt them, from the point, it took 13 % of a step on one
+/// thread, its random reads of the centres mostly).
+#[derive(Debug, Clone, Copy)]
+struct Wrench {
+    force: DVec3,
+    torque_a: DVec3,
+    /// Zero for a wall.
+    torque_b: DVec3,
+}
+
+impl Wrench {
+    /// The wrench of the force `f` at `p` between A (centre `ca`) and B
+    /// (centre `cb`, none for a wall), with the weight's `couple`.
+    #[inline(always)]
+    fn new(f: DVec3, p: DVec3, couple: DVec3, ca: DVec3, cb: Option<DVec3>) -> Self {
+        Wrench {
+            force: f,
+            torque_a: (p - ca).cross(f) + couple,
+            torque_b: cb.map_or(DVec3::ZERO, |cb| (p - cb).cross(f) + couple),
+        }
+    }
+}
+
+/// One contact point's share of a candidate's loads and what the
+/// statistics need.
 #[derive(Debug, Clone, Copy)]
 struct PointLoad {
-    force: DVec3,
-    point: DVec3,
+    /// Elastic plus damping.
+    wrench: Wrench,
     /// `weight · U(δ)`, J.
     energy: f64,
     /// δ, m (for an MPI rank's tally; the stage notes it at once).
@@ -51,14 +76,12 @@ pub(super) const BLOCK: usize = 256;
 /// added (8192). A window holds ~0.3 MB of slots in a settled bed; more
 /// windows cost a barrier each and their last block's wait for the other
 /// threads. The bits do not depend on it (nor on [`BLOCK`]).
-const WINDOW: usize = 32;
+const WINDOW: usize = 16;
 
 /// The touching candidates of one block of a candidate list, computed on one
 /// thread: which candidates touch (a bit each; a hit's index is the count
 /// of set bits before it), per hit the end of its points, all points in
-/// candidate order, the couples of the few points whose weight has a
-/// gradient (by point index; the others' couple is zero, and `x + (±0)`
-/// adds nothing to a sum that starts at +0), the points' damping forces
+/// candidate order, the points' damping loads
 /// (empty without damping), and the block's share of the statistics
 /// (touching count and largest overlap; the elastic energy is summed over
 /// the blocks in order afterwards). A block serves every window of a step;
@@ -69,12 +92,11 @@ struct Block {
     touched: [u64; BLOCK / 64],
     ends: Vec<u16>,
     points: Vec<PointLoad>,
-    couples: Vec<(u16, DVec3)>,
-    damp: Vec<DVec3>,
+    damp: Vec<Wrench>,
     stats: ContactStats,
-    /// The largest lengths of `ends`, `points`, `couples`, `damp` in this
-    /// step's windows (what [`Block::trim`] keeps).
-    high: [usize; 4],
+    /// The largest lengths of `ends`, `points`, `damp` in this step's
+    /// windows (what [`Block::trim`] keeps).
+    high: [usize; 3],
 }
 
 /// The parallel stage's buffers, kept between steps: one window's blocks
@@ -82,8 +104,10 @@ struct Block {
 /// hit for [`Slots::for_each_hit`]).
 #[derive(Debug, Clone)]
 pub(crate) struct Slots {
-    wall_blocks: Vec<Block>,
-    pair_blocks: Vec<Block>,
+    /// Two sets, one being added while the next window is computed into
+    /// the other ([`Sums::windows`]).
+    wall_blocks: [Vec<Block>; 2],
+    pair_blocks: [Vec<Block>; 2],
     /// Blocks per window ([`WINDOW`]; tests make it smaller).
     pub(super) window: usize,
     /// The neighbour-list build whose order was last checked.
@@ -93,8 +117,8 @@ pub(crate) struct Slots {
 impl Default for Slots {
     fn default() -> Self {
         Slots {
-            wall_blocks: vec![],
-            pair_blocks: vec![],
+            wall_blocks: [vec![], vec![]],
+            pair_blocks: [vec![], vec![]],
             window: WINDOW,
             checked: 0,
         }
@@ -129,6 +153,7 @@ impl Block {
         b: Option<(&FibreGeom, usize)>,
         damping: Option<&DampingView>,
     ) {
+        let cb = b.map(|(gb, _)| gb.centre);
         for c in points {
             let mut f_n = c.weight * law.force(c.overlap);
             if let Some(view) = damping {
@@ -143,16 +168,19 @@ impl Block {
                     c.overlap,
                 );
                 f_n += d;
-                self.damp.push(d * c.normal);
+                let fd = d * c.normal;
+                // (Damping's own expression: no couple.)
+                let fd_b = cb.map(|cb| (c.point - cb).cross(fd));
+                self.damp.push(Wrench {
+                    force: fd,
+                    torque_a: (c.point - ga.centre).cross(fd),
+                    torque_b: fd_b.unwrap_or(DVec3::ZERO),
+                });
             }
             let u = law.energy(c.overlap);
             let couple = -u * c.weight_grad;
-            if couple != DVec3::ZERO {
-                self.couples.push((index(self.points.len()), couple));
-            }
             self.points.push(PointLoad {
-                force: f_n * c.normal,
-                point: c.point,
+                wrench: Wrench::new(f_n * c.normal, c.point, couple, ga.centre, cb),
                 energy: c.weight * u,
                 #[cfg(feature = "mpi")]
                 overlap: c.overlap,
@@ -176,19 +204,13 @@ impl Block {
 
     /// Ready for the next window (its use noted for [`Block::trim`]).
     fn clear(&mut self) {
-        let lens = [
-            self.ends.len(),
-            self.points.len(),
-            self.couples.len(),
-            self.damp.len(),
-        ];
+        let lens = [self.ends.len(), self.points.len(), self.damp.len()];
         for (h, l) in self.high.iter_mut().zip(lens) {
             *h = (*h).max(l);
         }
         self.touched = [0; BLOCK / 64];
         self.ends.clear();
         self.points.clear();
-        self.couples.clear();
         self.damp.clear();
         self.stats = ContactStats::default();
     }
@@ -196,10 +218,9 @@ impl Block {
     /// At the end of a step: release what the step's windows did not use.
     fn trim(&mut self) {
         self.clear();
-        let [e, p, c, d] = std::mem::take(&mut self.high);
+        let [e, p, d] = std::mem::take(&mut self.high);
         trim(&mut self.ends, e);
         trim(&mut self.points, p);
-        trim(&mut self.couples, c);
         trim(&mut self.damp, d);
     }
 
@@ -280,23 +301,18 @@ fn compute_blocks<T: Sync, M: Send>(
     (used, counters)
 }
 
-/// The loads of one kind a contact point puts on its two bodies: a force
-/// on A acting at the point (B gets minus it), with or without the
-/// weight's couple.
+/// Which loads of a block's points a gather adds.
 trait Load {
-    /// Whether the point's torque carries the weight's couple.
-    const COUPLES: bool;
-    fn force(block: &Block, i: usize) -> DVec3;
+    fn wrench(block: &Block, i: usize) -> &Wrench;
 }
 
-/// The Hertz force with its damping part (`PointLoad::force`).
+/// The Hertz force with its damping part (`PointLoad::wrench`).
 struct Total;
 
 impl Load for Total {
-    const COUPLES: bool = true;
     #[inline]
-    fn force(block: &Block, i: usize) -> DVec3 {
-        block.points[i].force
+    fn wrench(block: &Block, i: usize) -> &Wrench {
+        &block.points[i].wrench
     }
 }
 
@@ -304,90 +320,38 @@ impl Load for Total {
 struct DampingPart;
 
 impl Load for DampingPart {
-    const COUPLES: bool = false;
     #[inline]
-    fn force(block: &Block, i: usize) -> DVec3 {
-        block.damp[i]
+    fn wrench(block: &Block, i: usize) -> &Wrench {
+        &block.damp[i]
     }
 }
 
-/// Add the loads `L` of a window's `blocks` to the sums of the bodies
-/// `lo..lo + force.len()`, point by point in candidate order as the serial
-/// stage does: side A `+F` and `+((p − c) × F + couple)`, side B minus
-/// those, with `c` the body's own centre. `bodies(candidate)` are its
-/// body A and body B (none for a wall); `cands` are the window's.
+/// Add the loads `L` of a window's `blocks` to the bodies' sums, point by
+/// point in candidate order as the serial stage does: side A `+F`, `+τ_A`,
+/// side B `−F`, `−τ_B`. `bodies(candidate)` are its body A and body B
+/// (none for a wall); `cands` are the window's.
 #[inline]
 fn add_window<L: Load, T>(
     blocks: &[Block],
     cands: &[T],
     bodies: &impl Fn(&T) -> (usize, Option<usize>),
-    geoms: &[FibreGeom],
-    lo: usize,
     force: &mut [DVec3],
     torque: &mut [DVec3],
 ) {
-    let len = force.len();
-    // `Some(index in the range)` when body `i` is in it.
-    let local = |i: usize| {
-        let k = i.wrapping_sub(lo);
-        (k < len).then_some(k)
-    };
     for (n, block) in blocks.iter().enumerate() {
-        let mut next = 0;
         for (s, k) in block.hits().enumerate() {
             let (a, b) = bodies(&cands[n * BLOCK + k]);
-            let (la, lb) = (local(a), b.and_then(local));
-            if la.is_none() && lb.is_none() {
-                continue;
-            }
             for i in block.range(s) {
-                let force_i = L::force(block, i);
-                let p = block.points[i].point;
-                let mut couple = None;
-                if L::COUPLES {
-                    while block.couples.get(next).is_some_and(|e| (e.0 as usize) < i) {
-                        next += 1;
-                    }
-                    if let Some(&(j, c)) = block.couples.get(next) {
-                        if j as usize == i {
-                            couple = Some(c);
-                        }
-                    }
-                }
-                let torque_on = |body: usize| {
-                    let t = (p - geoms[body].centre).cross(force_i);
-                    couple.map_or(t, |c| t + c)
-                };
-                if let Some(k) = la {
-                    force[k] += force_i;
-                    torque[k] += torque_on(a);
-                }
-                if let (Some(k), Some(b)) = (lb, b) {
-                    force[k] -= force_i;
-                    torque[k] -= torque_on(b);
+                let w = L::wrench(block, i);
+                force[a] += w.force;
+                torque[a] += w.torque_a;
+                if let Some(b) = b {
+                    force[b] -= w.force;
+                    torque[b] -= w.torque_b;
                 }
             }
         }
     }
-}
-
-/// [`add_window`] on the pool: the bodies cut into one contiguous range
-/// per thread, each range's thread reading the whole window (a body's sum
-/// is the same whichever thread makes it).
-fn gather<L: Load, T: Sync>(
-    blocks: &[Block],
-    cands: &[T],
-    bodies: &(impl Fn(&T) -> (usize, Option<usize>) + Sync),
-    geoms: &[FibreGeom],
-    force: &mut [DVec3],
-    torque: &mut [DVec3],
-) {
-    let len = force.len().div_ceil(rayon::current_num_threads()).max(1);
-    force
-        .par_chunks_mut(len)
-        .zip(torque.par_chunks_mut(len))
-        .enumerate()
-        .for_each(|(r, (f, t))| add_window::<L, T>(blocks, cands, bodies, geoms, r * len, f, t));
 }
 
 /// Add a window's statistics to `stats` in the serial order: the blocks'
@@ -406,7 +370,6 @@ fn reduce(blocks: &[Block], stats: &mut ContactStats) {
 /// Where a window's loads go: each body's forces and torques, its damping
 /// loads (damped scenes), the statistics and the kernels' counts.
 struct Sums<'a> {
-    geoms: &'a [FibreGeom],
     force: &'a mut [DVec3],
     torque: &'a mut [DVec3],
     damping: Option<(&'a mut [DVec3], &'a mut [DVec3])>,
@@ -415,29 +378,56 @@ struct Sums<'a> {
 }
 
 impl Sums<'_> {
-    /// Compute `candidates` (with their `memory`, one each) into `blocks` a
-    /// `window` at a time (`eval` as in [`compute_blocks`]), adding each window's loads and statistics in
-    /// the serial order before the next; `bodies(candidate)` are its body A
-    /// and body B (none for a wall).
+    /// Compute `candidates` (with their `memory`, one each) a `window` at a
+    /// time (`eval` as in [`compute_blocks`]) and add each window's loads
+    /// and statistics in the serial order before the next's; `bodies(candidate)`
+    /// are its body A and body B (none for a wall). Pipelined: while one
+    /// thread adds a window's loads (into `blocks[0]` and `[1]` in turn),
+    /// the others compute the next window, then join it. The adding reads
+    /// the whole window whatever body range it covers, so split over the
+    /// threads it did not run faster; overlapped, it costs its share of a
+    /// thread's time.
     fn windows<T: Sync, M: Send>(
         &mut self,
         candidates: &[T],
         memory: &mut [M],
         window: usize,
-        blocks: &mut Vec<Block>,
+        blocks: &mut [Vec<Block>; 2],
         eval: impl Eval<T, M>,
         bodies: impl Fn(&T) -> (usize, Option<usize>) + Sync,
     ) {
-        for (cands, memory) in candidates.chunks(window).zip(memory.chunks_mut(window)) {
-            let (used, counts) = compute_blocks(cands, memory, blocks, &eval);
-            self.counters = self.counters + counts;
-            let blocks = &blocks[..used];
-            gather::<Total, T>(blocks, cands, &bodies, self.geoms, self.force, self.torque);
-            if let Some((df, dt)) = &mut self.damping {
-                gather::<DampingPart, T>(blocks, cands, &bodies, self.geoms, df, dt);
-            }
-            reduce(blocks, &mut self.stats);
+        let mut chunks = candidates.chunks(window).zip(memory.chunks_mut(window));
+        let Some((first, first_memory)) = chunks.next() else {
+            return;
+        };
+        let [mut front, mut back] = blocks.each_mut();
+        let mut ready = (first, compute_blocks(first, first_memory, front, &eval));
+        for (cands, memory) in chunks {
+            let ((), next) = rayon::join(
+                || self.add(&front[..ready.1 .0], ready.0, ready.1 .1, &bodies),
+                || compute_blocks(cands, memory, back, &eval),
+            );
+            std::mem::swap(&mut front, &mut back);
+            ready = (cands, next);
         }
+        self.add(&front[..ready.1 .0], ready.0, ready.1 .1, &bodies);
+    }
+
+    /// Add a computed window (its `blocks`, candidates `cands` and kernel
+    /// `counts`) to the sums, in the serial order.
+    fn add<T>(
+        &mut self,
+        blocks: &[Block],
+        cands: &[T],
+        counts: KernelCounters,
+        bodies: &impl Fn(&T) -> (usize, Option<usize>),
+    ) {
+        self.counters = self.counters + counts;
+        add_window::<Total, T>(blocks, cands, bodies, self.force, self.torque);
+        if let Some((df, dt)) = &mut self.damping {
+            add_window::<DampingPart, T>(blocks, cands, bodies, df, dt);
+        }
+        reduce(blocks, &mut self.stats);
     }
 }
 
@@ -467,8 +457,8 @@ impl Slots {
     ) -> ContactStats {
         // The last step's hits (kept for `for_each_hit`) go; what its
         // windows did not use is released.
-        self.wall_blocks.iter_mut().for_each(Block::trim);
-        self.pair_blocks.iter_mut().for_each(Block::trim);
+        let sets = self.wall_blocks.iter_mut().chain(&mut self.pair_blocks);
+        sets.flatten().for_each(Block::trim);
         force.fill(DVec3::ZERO);
         torque.fill(DVec3::ZERO);
         let (view, loads) = match damping {
@@ -497,7 +487,6 @@ impl Slots {
             self.checked = list.builds;
         }
         let mut sums = Sums {
-            geoms,
             force,
             torque,
             damping: loads,
@@ -563,7 +552,10 @@ impl Slots {
     ) {
         // With `keep_hits` the first blocks hold the whole list.
         let (walls, pairs) = (list.walls.len(), list.pairs.len());
-        for (n, block) in self.wall_blocks[..walls.div_ceil(BLOCK)].iter().enumerate() {
+        for (n, block) in self.wall_blocks[0][..walls.div_ceil(BLOCK)]
+            .iter()
+            .enumerate()
+        {
             for (s, k) in block.hits().enumerate() {
                 let candidate = (n * BLOCK + k) as u32;
                 let a = list.walls[candidate as usize].0 as usize;
@@ -576,7 +568,10 @@ impl Slots {
                 );
             }
         }
-        for (n, block) in self.pair_blocks[..pairs.div_ceil(BLOCK)].iter().enumerate() {
+        for (n, block) in self.pair_blocks[0][..pairs.div_ceil(BLOCK)]
+            .iter()
+            .enumerate()
+        {
             for (s, k) in block.hits().enumerate() {
                 let candidate = (n * BLOCK + k) as u32;
                 let (a, b) = list.pairs[candidate as usize];

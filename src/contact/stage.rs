@@ -355,12 +355,25 @@ impl ContactStage {
         use rayon::prelude::*;
         self.geoms.resize(bodies.len(), FibreGeom::default());
         self.motion.resize(bodies.len(), f32::INFINITY);
-        let valid = self.neighbours.still_valid_par(states, &self.geoms);
-        self.geoms
+        // The list's test and the geometry's update in one pass (a pool
+        // stage fewer): each body is tested at its new pose against the
+        // half length it keeps.
+        let within = self.neighbours.within_skin(bodies.len());
+        let valid = self
+            .geoms
             .par_iter_mut()
             .zip(self.motion.par_iter_mut())
             .zip(bodies.par_iter().zip(states.par_iter()))
-            .for_each(|((g, m), (b, s))| *m = move_to(g, geom(b, s)));
+            .enumerate()
+            .map(|(i, ((g, m), (b, s)))| {
+                let kept = within
+                    .as_ref()
+                    .is_some_and(|w| w(i, s.x, s.rot.q, g.half_length));
+                *m = move_to(g, geom(b, s));
+                kept
+            })
+            .reduce(|| true, |x, y| x && y);
+        drop(within);
         if !valid {
             let rotations = states.iter().map(|s| s.rot.q);
             self.neighbours.build(&self.geoms, rotations, &self.walls);

@@ -27,6 +27,7 @@ impl World<'_> {
             verlet::kick_drift(&mut s.x, &mut s.v, force[i] * body.inv_mass + g, dt);
             let tau = pooled(torque_source(prescribed_on(&scene.torques, i), torque[i]));
             let _ = R::advance(&mut s.rot, a, &body.inertia, tau, t, dt);
+            true
         });
     }
 
@@ -38,16 +39,17 @@ impl World<'_> {
         let t_end = (self.step as f64 + end) * scene.sim.dt();
         let g = scene.gravity.unwrap_or(DVec3::ZERO);
         let (force, torque) = (&self.force, &self.torque);
-        par_bodies::<R>(&mut self.states, &mut self.aux, |i, s, a| {
+        // The per-body guard in the same pass (a pool stage fewer).
+        let sound = par_bodies::<R>(&mut self.states, &mut self.aux, |i, s, a| {
             let body = &scene.bodies[i];
             verlet::kick(&mut s.v, force[i] * body.inv_mass + g, dt);
             let tau = pooled(torque_source(prescribed_on(&scene.torques, i), torque[i]));
             R::finish(&mut s.rot, a, &body.inertia, tau, t_end, dt);
+            !last || body_is_sound(s)
         });
         if !last {
             return true;
         }
-        let sound = self.states.par_iter().all(body_is_sound);
         // Summed in body order: the bits of the one-thread pass.
         let mut ledger = Ledger {
             elastic: self.elastic(),
@@ -71,27 +73,33 @@ fn pooled(torque: impl Fn(f64) -> DVec3) -> impl Fn(f64) -> DVec3 {
     move |t| torque(t)
 }
 
-/// Run `f(index, state, aux)` for every body on the thread pool.
+/// Run `f(index, state, aux)` for every body on the thread pool; whether
+/// it returned true for all (each body runs, whatever the others return).
 fn par_bodies<R: Rotator>(
     states: &mut [BodyState],
     aux: &mut [f64],
-    f: impl Fn(usize, &mut BodyState, &mut R::Aux) + Sync,
-) {
+    f: impl Fn(usize, &mut BodyState, &mut R::Aux) -> bool + Sync,
+) -> bool {
     let len = R::Aux::LEN;
+    let all = || true;
+    let and = |x: bool, y: bool| x && y;
     if len == 0 {
-        states.par_iter_mut().enumerate().for_each(|(i, s)| {
-            let mut a = R::Aux::default();
-            f(i, s, &mut a);
-        });
+        states
+            .par_iter_mut()
+            .enumerate()
+            .map(|(i, s)| f(i, s, &mut R::Aux::default()))
+            .reduce(all, and)
     } else {
         states
             .par_iter_mut()
             .zip(aux.par_chunks_mut(len))
             .enumerate()
-            .for_each(|(i, (s, slot))| {
+            .map(|(i, (s, slot))| {
                 let mut a = R::Aux::read(slot);
-                f(i, s, &mut a);
+                let ok = f(i, s, &mut a);
                 a.write(slot);
-            });
+                ok
+            })
+            .reduce(all, and)
     }
 }
