@@ -73,10 +73,12 @@ struct PointLoad {
 pub(super) const BLOCK: usize = 256;
 
 /// Blocks per window: the candidates computed before their loads are
-/// added (8192). A window holds ~0.3 MB of slots in a settled bed; more
-/// windows cost a barrier each and their last block's wait for the other
-/// threads. The bits do not depend on it (nor on [`BLOCK`]).
-const WINDOW: usize = 16;
+/// added (2048). Two windows' slots are held (one being added while the
+/// next is computed), ~0.25 MB in a settled bed: at 16 blocks `bed_10k`'s
+/// copy of 10⁵ fibres held 514 B per fibre on 2 threads, at 8 506 B, at the
+/// same speed (the pipeline hides the windows' ends). The bits do not
+/// depend on it (nor on [`BLOCK`]).
+const WINDOW: usize = 8;
 
 /// The touching candidates of one block of a candidate list, computed on one
 /// thread: which candidates touch (a bit each; a hit's index is the count
