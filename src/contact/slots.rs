@@ -9,8 +9,9 @@
 //! (the list is body-major), then its pairs in sorted `(i, j)` order (its
 //! side-B pairs `(i, b)`, `i < b`, all come before its own row). So the
 //! list can be computed a window of blocks at a time, each window's loads
-//! added before the next is computed: only one window's slots are held,
-//! not the whole list's (issue 10 item 7).
+//! added before the next window's: only two windows' slots are held (one
+//! being added while the next is computed), not the whole list's (issue 10
+//! item 7).
 
 use super::broad::NeighbourList;
 use super::damping::{Damping, DampingView};
@@ -41,13 +42,18 @@ struct Wrench {
 
 impl Wrench {
     /// The wrench of the force `f` at `p` between A (centre `ca`) and B
-    /// (centre `cb`, none for a wall), with the weight's `couple`.
+    /// (centre `cb`, none for a wall), with the weight's `couple` if any
+    /// (the damping force has none), each torque as the serial stage makes it.
     #[inline(always)]
-    fn new(f: DVec3, p: DVec3, couple: DVec3, ca: DVec3, cb: Option<DVec3>) -> Self {
+    fn new(f: DVec3, p: DVec3, couple: Option<DVec3>, ca: DVec3, cb: Option<DVec3>) -> Self {
+        let torque = |c: DVec3| {
+            let t = (p - c).cross(f);
+            couple.map_or(t, |couple| t + couple)
+        };
         Wrench {
             force: f,
-            torque_a: (p - ca).cross(f) + couple,
-            torque_b: cb.map_or(DVec3::ZERO, |cb| (p - cb).cross(f) + couple),
+            torque_a: torque(ca),
+            torque_b: cb.map_or(DVec3::ZERO, torque),
         }
     }
 }
@@ -101,9 +107,9 @@ struct Block {
     high: [usize; 3],
 }
 
-/// The parallel stage's buffers, kept between steps: one window's blocks
-/// of wall and of pair candidates (all of them when the stage keeps every
-/// hit for [`Slots::for_each_hit`]).
+/// The parallel stage's buffers, kept between steps: two windows' blocks
+/// of wall and of pair candidates (the first set all of them when the
+/// stage keeps every hit for [`Slots::for_each_hit`]).
 #[derive(Debug, Clone)]
 pub(crate) struct Slots {
     /// Two sets, one being added while the next window is computed into
@@ -171,18 +177,13 @@ impl Block {
                 );
                 f_n += d;
                 let fd = d * c.normal;
-                // (Damping's own expression: no couple.)
-                let fd_b = cb.map(|cb| (c.point - cb).cross(fd));
-                self.damp.push(Wrench {
-                    force: fd,
-                    torque_a: (c.point - ga.centre).cross(fd),
-                    torque_b: fd_b.unwrap_or(DVec3::ZERO),
-                });
+                self.damp
+                    .push(Wrench::new(fd, c.point, None, ga.centre, cb));
             }
             let u = law.energy(c.overlap);
             let couple = -u * c.weight_grad;
             self.points.push(PointLoad {
-                wrench: Wrench::new(f_n * c.normal, c.point, couple, ga.centre, cb),
+                wrench: Wrench::new(f_n * c.normal, c.point, Some(couple), ga.centre, cb),
                 energy: c.weight * u,
                 #[cfg(feature = "mpi")]
                 overlap: c.overlap,
@@ -384,8 +385,8 @@ impl Sums<'_> {
     /// time (`eval` as in [`compute_blocks`]) and add each window's loads
     /// and statistics in the serial order before the next's; `bodies(candidate)`
     /// are its body A and body B (none for a wall). Pipelined: while one
-    /// thread adds a window's loads (into `blocks[0]` and `[1]` in turn),
-    /// the others compute the next window, then join it. The adding reads
+    /// thread adds a window's loads, the others compute the next window
+    /// (into `blocks[0]` and `blocks[1]` in turn), then join it. The adding reads
     /// the whole window whatever body range it covers, so split over the
     /// threads it did not run faster; overlapped, it costs its share of a
     /// thread's time.
@@ -403,16 +404,17 @@ impl Sums<'_> {
             return;
         };
         let [mut front, mut back] = blocks.each_mut();
-        let mut ready = (first, compute_blocks(first, first_memory, front, &eval));
+        // The window computed into `front` and not yet added.
+        let (mut ready, mut done) = (first, compute_blocks(first, first_memory, front, &eval));
         for (cands, memory) in chunks {
             let ((), next) = rayon::join(
-                || self.add(&front[..ready.1 .0], ready.0, ready.1 .1, &bodies),
+                || self.add(&front[..done.0], ready, done.1, &bodies),
                 || compute_blocks(cands, memory, back, &eval),
             );
             std::mem::swap(&mut front, &mut back);
-            ready = (cands, next);
+            (ready, done) = (cands, next);
         }
-        self.add(&front[..ready.1 .0], ready.0, ready.1 .1, &bodies);
+        self.add(&front[..done.0], ready, done.1, &bodies);
     }
 
     /// Add a computed window (its `blocks`, candidates `cands` and kernel
