@@ -171,18 +171,23 @@ fn run(mut plan: plan::RunPlan) -> Result<()> {
     let initial = std::mem::take(&mut plan.scene.initial);
     let scene = &plan.scene;
     let resume = plan.resume.as_ref().map(|r| &r.0);
-    let outcome = on_pool(|| crate::run::run_from(scene, initial, &plan.opts, resume));
+    let n = scene.bodies.len();
+    let outcome = on_pool(n, || {
+        crate::run::run_from(scene, initial, &plan.opts, resume)
+    });
     print_outcome(scene, &outcome, out_dir, plan.quiet);
     outcome.map(|_| ())
 }
 
-/// Run `op` on a thread of the pool when it has more than one: its stages
-/// then start on the thread that waits for them, as a job of its own,
-/// where from the main thread each was handed to the pool and waited for
-/// (a wake-up a stage, ~20 a step; the main thread asleep in between).
-/// (Never around MPI calls: they stay on the main thread.)
-fn on_pool<R: Send>(op: impl FnOnce() -> R + Send) -> R {
-    if rayon::current_num_threads() > 1 {
+/// Run `op`, the stepping of `n` bodies, on a thread of the pool when the
+/// step runs its stages there ([`parallel`](crate::contact::stage::parallel)):
+/// they then start on the thread that waits for them, where from the main
+/// thread each was a job handed to the pool and waited for (a wake-up a
+/// stage, ~20 a step; the main thread asleep in between). Smaller scenes
+/// stay on the main thread and start no pool. (Never around MPI calls:
+/// they stay on the main thread.)
+fn on_pool<R: Send>(n: usize, op: impl FnOnce() -> R + Send) -> R {
+    if crate::contact::stage::parallel(n) {
         rayon::scope(|_| op())
     } else {
         op()
@@ -253,7 +258,10 @@ fn settle(mut plan: plan::SettlePlan) -> Result<()> {
     let initial = std::mem::take(&mut plan.scene.initial);
     let scene = &plan.scene;
     let resume = plan.resume.as_ref().map(|r| &r.0);
-    let s = on_pool(|| crate::run::run_from(scene, initial, &plan.opts, resume))?;
+    let n = scene.bodies.len();
+    let s = on_pool(n, || {
+        crate::run::run_from(scene, initial, &plan.opts, resume)
+    })?;
     let settle = plan.opts.settle.expect("a settle plan has a settle test");
     let body_file = crate::generate::body_file_of(&plan.write);
     let n = scene.bodies.len() as f64;
