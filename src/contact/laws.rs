@@ -89,15 +89,23 @@ impl LawTable {
         &self.wall[self.kind_of[a] as usize]
     }
 
-    /// The law of body `a` (as the first fibre) against body `b`.
-    #[inline]
+    /// The law of body `a` (as the first fibre) against body `b`. (Inlined,
+    /// the table's lookup only: out of line it cost ~40 instructions a
+    /// touching pair, 1.5 % of a bed's step.)
+    #[inline(always)]
     pub(crate) fn fibre_fibre(&self, a: usize, b: usize) -> HertzLaw {
         let (ka, kb) = (self.kind_of[a] as usize, self.kind_of[b] as usize);
-        if self.pair.is_empty() {
-            pair_law(self.kinds[ka], self.kinds[kb])
-        } else {
-            self.pair[ka * self.kinds.len() + kb]
+        match self.pair.get(ka * self.kinds.len() + kb) {
+            Some(&law) => law,
+            None => self.computed(ka, kb),
         }
+    }
+
+    /// The law of kinds `ka` and `kb` when the table was not made.
+    #[cold]
+    #[inline(never)]
+    fn computed(&self, ka: usize, kb: usize) -> HertzLaw {
+        pair_law(self.kinds[ka], self.kinds[kb])
     }
 }
 
