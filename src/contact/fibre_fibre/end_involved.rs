@@ -16,7 +16,9 @@ use super::parry_check::{confirm_separated, parry_contact};
 use super::search::{self, SAME_MINIMUM_COS};
 use super::segment::segment_closest_params;
 use super::side_side::closest_point_contact;
-use super::support::{dome_sag, domed_projection_overlap as pov, sig, support};
+use super::support::{
+    dome_sag, domed_projection_overlap as pov, domed_projection_supports, sig, support,
+};
 use super::{room_beyond_parallel, Cand};
 use crate::contact::{ContactPoint, FibreGeom, KernelCounters};
 use glam::DVec3;
@@ -559,8 +561,8 @@ fn remembered(a: &FibreGeom, b: &FibreGeom, kernel: Kernel, most: f64) -> Option
         return None;
     }
     let n = if from_b { -st.n } else { st.n };
-    let v = pov(a, b, n);
-    (v > 0.0 && v <= most).then(|| contact_along(a, b, n, v))
+    let (v, on_a, on_b) = domed_projection_supports(a, b, n);
+    (v > 0.0 && v <= most).then(|| contact_at(a, b, n, v, || on_a, || on_b))
 }
 
 /// The iterative search of the previous kernel (search.rs), seeded by
@@ -633,13 +635,27 @@ const SIDE_CIRCLE_TOL: f64 = 1e-7;
 /// arbitrary end of its generator (history: docs/contacts.md, "Penetration
 /// search").
 pub(super) fn contact_along(a: &FibreGeom, b: &FibreGeom, n: DVec3, depth: f64) -> Cand {
+    contact_at(a, b, n, depth, || support(a, -n).0, || support(b, n).0)
+}
+
+/// [`contact_along`] with A's support in `−n` and B's in `n` given (made
+/// only if needed).
+#[inline(always)]
+fn contact_at(
+    a: &FibreGeom,
+    b: &FibreGeom,
+    n: DVec3,
+    depth: f64,
+    on_a: impl FnOnce() -> DVec3,
+    on_b: impl FnOnce() -> DVec3,
+) -> Cand {
     let (ca, cb) = (n.dot(a.axis).abs(), n.dot(b.axis).abs());
     let point = if ca.max(cb) < SIDE_CIRCLE_TOL {
         generator_crossing(a, b, n)
     } else if ca >= cb {
-        support(a, -n).0 + 0.5 * depth * n
+        on_a() + 0.5 * depth * n
     } else {
-        support(b, n).0 - 0.5 * depth * n
+        on_b() - 0.5 * depth * n
     };
     Cand {
         depth,

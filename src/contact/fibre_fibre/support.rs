@@ -119,7 +119,21 @@ pub fn projection_overlap(a: &FibreGeom, b: &FibreGeom, n: DVec3) -> f64 {
 /// (Inlined: the scans call it ~5 times a pair.)
 #[inline(always)]
 pub fn domed_projection_overlap(a: &FibreGeom, b: &FibreGeom, n: DVec3) -> f64 {
-    support(b, n).1 + support(a, -n).1
+    domed_projection_supports(a, b, n).0
+}
+
+/// [`domed_projection_overlap`] with the two supports it is made of: A's
+/// support point in `−n` and B's in `n` (the contact point is placed from
+/// one of them: a remembered answer need not compute it again).
+#[inline(always)]
+pub(super) fn domed_projection_supports(
+    a: &FibreGeom,
+    b: &FibreGeom,
+    n: DVec3,
+) -> (f64, DVec3, DVec3) {
+    let (on_b, h_b) = support(b, n);
+    let (on_a, h_a) = support(a, -n);
+    (h_b + h_a, on_a, on_b)
 }
 
 /// Sign of `d·u` (+1 for 0): the end of a fibre along `u` that faces `d`.
