@@ -330,7 +330,14 @@ impl NeighbourList {
         self.built.len() == poses.len()
             && poses
                 .zip(&self.built)
-                .all(|((x, q, h), r)| r.moved2(x, q, h) <= self.limit2)
+                .all(|((x, q, h), r)| self.kept(r, x, q, h))
+    }
+
+    /// The test of one body of [`Self::still_valid`]: at `(x, q)`, of half
+    /// length `h`, still within the skin of its pose `r` at the build.
+    #[inline(always)]
+    fn kept(&self, r: &SkinRef, x: DVec3, q: DQuat, h: f64) -> bool {
+        r.moved2(x, q, h) <= self.limit2
     }
 
     /// [`Self::still_valid`] one body at a time, for a pass that also does
@@ -343,7 +350,7 @@ impl NeighbourList {
         n: usize,
     ) -> Option<impl Fn(usize, DVec3, DQuat, f64) -> bool + Sync + '_> {
         (self.built.len() == n)
-            .then_some(move |i: usize, x, q, h| self.built[i].moved2(x, q, h) <= self.limit2)
+            .then_some(move |i: usize, x, q, h| self.kept(&self.built[i], x, q, h))
     }
 
     /// The skin width, m.

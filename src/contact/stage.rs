@@ -358,22 +358,22 @@ impl ContactStage {
         // The list's test and the geometry's update in one pass (a pool
         // stage fewer): each body is tested at its new pose against the
         // half length it keeps.
-        let within = self.neighbours.within_skin(bodies.len());
-        let valid = self
-            .geoms
-            .par_iter_mut()
-            .zip(self.motion.par_iter_mut())
-            .zip(bodies.par_iter().zip(states.par_iter()))
-            .enumerate()
-            .map(|(i, ((g, m), (b, s)))| {
-                let kept = within
-                    .as_ref()
-                    .is_some_and(|w| w(i, s.x, s.rot.q, g.half_length));
-                *m = move_to(g, geom(b, s));
-                kept
-            })
-            .reduce(|| true, |x, y| x && y);
-        drop(within);
+        let valid = {
+            let within = self.neighbours.within_skin(bodies.len());
+            self.geoms
+                .par_iter_mut()
+                .zip(self.motion.par_iter_mut())
+                .zip(bodies.par_iter().zip(states.par_iter()))
+                .enumerate()
+                .map(|(i, ((g, m), (b, s)))| {
+                    let kept = within
+                        .as_ref()
+                        .is_some_and(|w| w(i, s.x, s.rot.q, g.half_length));
+                    *m = move_to(g, geom(b, s));
+                    kept
+                })
+                .reduce(|| true, |x, y| x && y)
+        };
         if !valid {
             let rotations = states.iter().map(|s| s.rot.q);
             self.neighbours.build(&self.geoms, rotations, &self.walls);

@@ -27,7 +27,7 @@ impl World<'_> {
             verlet::kick_drift(&mut s.x, &mut s.v, force[i] * body.inv_mass + g, dt);
             let tau = pooled(torque_source(prescribed_on(&scene.torques, i), torque[i]));
             let _ = R::advance(&mut s.rot, a, &body.inertia, tau, t, dt);
-            true
+            true // (no guard in the opening pass)
         });
     }
 
