@@ -35,6 +35,7 @@ mod side_side;
 mod support;
 
 pub use blend::{END_TIE_BAND, TIE_BAND};
+use blend::push_weighted;
 use coherence::memory_unit;
 pub use coherence::PairMemory;
 pub use segment::segment_closest_params;
@@ -185,8 +186,9 @@ pub fn contact_fibre_fibre_remembering(
     let mut w_grad = DVec3::ZERO;
     if interior || (sin < PARALLEL_SIN && axial_overlap(a, b).len > 0.0) {
         let line = side_side(a, b, s, t, counters);
-        if let SideSide::Crossing(_) = line {
-            line.push(out, a, (1.0, DVec3::ZERO), (0.0, DVec3::ZERO));
+        if let SideSide::Crossing(c) = line {
+            // `SideSide::push` of a crossing, without moving the enum.
+            push_weighted(out, c, 1.0, DVec3::ZERO);
             return;
         }
         // Parallel blend: potential U(δ_main) + w·U(δ_2) when interior,

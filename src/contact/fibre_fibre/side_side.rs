@@ -103,30 +103,36 @@ pub(super) fn closest_point_contact(a: &FibreGeom, b: &FibreGeom, s: f64, t: f64
     let s_end = s.abs() >= a.half_length;
     let t_end = t.abs() >= b.half_length;
     match (s_end, t_end) {
-        (false, false) => {
-            let pa = a.centre + s * a.axis;
-            let pb = b.centre + t * b.axis;
-            let v = pa - pb;
-            let d = v.length();
-            let n = if d > 1e-300 {
-                v / d
-            } else {
-                let c = a.axis.cross(b.axis);
-                if c.length_squared() > 1e-24 {
-                    c.normalize()
-                } else {
-                    a.axis.any_orthonormal_vector()
-                }
-            };
-            Cand {
-                depth: a.radius + b.radius - d,
-                point: 0.5 * (pa - a.radius * n + pb + b.radius * n),
-                normal: n,
-            }
-        }
+        (false, false) => interior_contact(a, b, s, t),
         (true, false) => a_end(a, b, s.signum()),
         (false, true) => b_end(a, b, t.signum()),
         (true, true) => deeper(a_end(a, b, s.signum()), b_end(a, b, t.signum())),
+    }
+}
+
+/// [`closest_point_contact`] of interior closest points `s`, `t`: the
+/// contact of the two axis points. (Inlined into the crossing's path,
+/// where a call passed its answer through memory.)
+#[inline(always)]
+fn interior_contact(a: &FibreGeom, b: &FibreGeom, s: f64, t: f64) -> Cand {
+    let pa = a.centre + s * a.axis;
+    let pb = b.centre + t * b.axis;
+    let v = pa - pb;
+    let d = v.length();
+    let n = if d > 1e-300 {
+        v / d
+    } else {
+        let c = a.axis.cross(b.axis);
+        if c.length_squared() > 1e-24 {
+            c.normalize()
+        } else {
+            a.axis.any_orthonormal_vector()
+        }
+    };
+    Cand {
+        depth: a.radius + b.radius - d,
+        point: 0.5 * (pa - a.radius * n + pb + b.radius * n),
+        normal: n,
     }
 }
 
@@ -267,6 +273,27 @@ impl Crossing {
     }
 }
 
+/// Relative margin of [`ends_clear_of_lines`] over the rounding of its
+/// bound (~1e-14 of the reach²): where it says clear, so does the exact
+/// test of each end against the other's segment.
+const CLEAR_MARGIN: f64 = 1e-9;
+
+/// Whether every end centre of a crossing pair (closest points `s`, `t`
+/// interior, depth `depth`) is beyond the capsule reach `r_A + r_B` of the
+/// other's axis *line*, hence of its segment (what `side_side`'s per-end
+/// test asks, in a dozen operations). At interior closest points `v =
+/// p_A − p_B` is ⊥ both axes, so A's end at `h_A ∓ s` along A from `p_A`
+/// is at `√(|v|² + (h_A ∓ s)² |a×b|²)` from B's line; the nearer end
+/// (`h_A − |s|`) decides (and likewise B's).
+#[inline(always)]
+fn ends_clear_of_lines(a: &FibreGeom, b: &FibreGeom, s: f64, t: f64, depth: f64) -> bool {
+    let reach = a.radius + b.radius;
+    let d = reach - depth;
+    let along = (a.half_length - s.abs()).min(b.half_length - t.abs());
+    let sin2 = a.axis.cross(b.axis).length_squared();
+    d * d + along * along * sin2 >= reach * reach * (1.0 + CLEAR_MARGIN)
+}
+
 /// Side–side model, potential `U(δ_main) + U(δ_2)` with
 /// `δ_2 = smin(δ_lo, δ_hi)`, `S = smax(δ_lo, δ_hi) = δ_lo + δ_hi − δ_2` (C¹,
 /// band [`TIE_BAND`]) and `δ_main = S`, or `smax(δ_cp, S)` (band
@@ -318,12 +345,19 @@ pub(super) fn side_side(
     t: f64,
     counters: &mut KernelCounters,
 ) -> SideSide {
-    let cp = closest_point_contact(a, b, s, t);
     let interior = s.abs() < a.half_length && t.abs() < b.half_length;
+    let cp = if interior {
+        interior_contact(a, b, s, t)
+    } else {
+        closest_point_contact(a, b, s, t)
+    };
     // The common crossing, decided before any end model: no end disc
     // within the capsule reach of the other axis (so δ_lo, δ_hi ≤ 0, see
     // below) and the crossing deep enough to beat their smooth maximum.
     if interior && cp.depth >= 0.25 * TIE_BAND + CROSSING_BAND {
+        if ends_clear_of_lines(a, b, s, t, cp.depth) {
+            return SideSide::Crossing(cp);
+        }
         let clear = |f: &FibreGeom, o: &FibreGeom, sign: f64| {
             let e = f.centre + sign * f.half_length * f.axis;
             let t = o
