@@ -150,8 +150,8 @@ impl Block {
     /// them, as the hit of candidate `k` (the block's next); with `damping`
     /// (the view, A's and B's indices) the damping force is added as
     /// `apply` adds it, and kept apart for the ledger. The overlaps are
-    /// noted in `apply`'s order.
-    #[inline]
+    /// noted in `apply`'s order. (Inlined, as `apply` is.)
+    #[inline(always)]
     fn push(
         &mut self,
         k: usize,
