@@ -34,8 +34,8 @@ mod segment;
 mod side_side;
 mod support;
 
-pub use blend::{END_TIE_BAND, TIE_BAND};
 use blend::push_weighted;
+pub use blend::{END_TIE_BAND, TIE_BAND};
 use coherence::memory_unit;
 pub use coherence::PairMemory;
 pub use segment::segment_closest_params;
