@@ -468,3 +468,85 @@ pub(super) fn side_side(
     };
     SideSide::Escape(main, second)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::fibre_fibre::segment_closest_params;
+
+    /// A deterministic stream of uniforms in [0, 1) (xorshift64*).
+    struct Uniform(u64);
+    impl Uniform {
+        fn next(&mut self) -> f64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
+        }
+        fn vec(&mut self, scale: f64) -> DVec3 {
+            scale * DVec3::new(self.next() - 0.5, self.next() - 0.5, self.next() - 0.5)
+        }
+        fn fibre(&mut self, spread: f64) -> FibreGeom {
+            FibreGeom {
+                centre: self.vec(spread),
+                axis: self.vec(1.0).normalize(),
+                radius: 0.002 + 0.004 * self.next(),
+                half_length: 0.005 + 0.03 * self.next(),
+            }
+        }
+    }
+
+    /// Reference: the distance from `p` to the segment of `f`'s axis,
+    /// by the point's projection on the line clamped to the segment (the
+    /// squared distance along the segment is a convex parabola).
+    fn to_segment(p: DVec3, f: &FibreGeom) -> f64 {
+        let along = (p - f.centre)
+            .dot(f.axis)
+            .clamp(-f.half_length, f.half_length);
+        (p - f.centre - along * f.axis).length()
+    }
+
+    /// `ends_clear_of_lines` is sufficient: wherever it says clear, every
+    /// end centre of both fibres is at least the capsule reach from the
+    /// other's axis segment (the per-end test it stands in for). Crossing
+    /// pairs of random sizes, placed so that many ends come near the other
+    /// fibre (an end within the reach in ~half of them); it must also say
+    /// clear for most of the clear ones (not vacuous).
+    #[test]
+    fn ends_clear_of_lines_implies_every_end_clear() {
+        let mut u = Uniform(0x9e37_79b9_7f4a_7c15);
+        let (mut interior, mut said_clear, mut truly_clear) = (0, 0, 0);
+        for _ in 0..200_000 {
+            let (a, b) = (u.fibre(0.02), u.fibre(0.02));
+            let (s, t) = segment_closest_params(&a, &b);
+            if s.abs() >= a.half_length || t.abs() >= b.half_length {
+                continue;
+            }
+            interior += 1;
+            let cp = interior_contact(&a, &b, s, t);
+            let reach = a.radius + b.radius;
+            let ends_clear = [(&a, &b), (&b, &a)].iter().all(|(f, o)| {
+                [1.0, -1.0]
+                    .iter()
+                    .all(|&sign| to_segment(f.centre + sign * f.half_length * f.axis, o) >= reach)
+            });
+            truly_clear += usize::from(ends_clear);
+            if ends_clear_of_lines(&a, &b, s, t, cp.depth) {
+                said_clear += 1;
+                assert!(
+                    ends_clear,
+                    "{a:?} {b:?}: said clear, an end is within the reach"
+                );
+            }
+        }
+        assert!(interior > 20_000, "{interior} interior pairs");
+        assert!(
+            truly_clear < interior * 9 / 10,
+            "{truly_clear} of {interior}: few ends near"
+        );
+        assert!(
+            said_clear > truly_clear * 9 / 10,
+            "said clear {said_clear} of {truly_clear} clear"
+        );
+    }
+}
