@@ -284,15 +284,22 @@ const CLEAR_MARGIN: f64 = 1e-9;
 /// test asks, in a dozen operations). At interior closest points `v =
 /// p_A − p_B` is ⊥ both axes, so A's end at `h_A ∓ s` along A from `p_A`
 /// is at `√(|v|² + (h_A ∓ s)² |a×b|²)` from B's line; the nearer end
-/// (`h_A − |s|`) decides (and likewise B's).
+/// (`h_A − |s|`) decides (and likewise B's). Only where `segment_closest_params`
+/// solves for the lines' closest points ([`SOLVED_SIN2`]); its parallel
+/// branch takes the middle of the overlap instead, where `v` need not be ⊥ A.
 #[inline(always)]
 fn ends_clear_of_lines(a: &FibreGeom, b: &FibreGeom, s: f64, t: f64, depth: f64) -> bool {
     let reach = a.radius + b.radius;
     let d = reach - depth;
     let along = (a.half_length - s.abs()).min(b.half_length - t.abs());
     let sin2 = a.axis.cross(b.axis).length_squared();
-    d * d + along * along * sin2 >= reach * reach * (1.0 + CLEAR_MARGIN)
+    sin2 > SOLVED_SIN2 && d * d + along * along * sin2 >= reach * reach * (1.0 + CLEAR_MARGIN)
 }
+
+/// `|a×b|²` above which [`ends_clear_of_lines`] trusts `s`, `t` to be the
+/// lines' closest points (100× `segment_closest_params`'s parallel
+/// threshold on `1 − (a·b)²`, beyond their rounding difference).
+const SOLVED_SIN2: f64 = 1e-12;
 
 /// Side–side model, potential `U(δ_main) + U(δ_2)` with
 /// `δ_2 = smin(δ_lo, δ_hi)`, `S = smax(δ_lo, δ_hi) = δ_lo + δ_hi − δ_2` (C¹,
