@@ -295,7 +295,7 @@ impl ContactStage {
         }
 
         // (Test case 2 has no candidate pairs most of the time: it skips
-        // the call, whose frame alone cost it 0.4 % more instructions.)
+        // the call, which cost it 0.6 % more instructions.)
         if !self.neighbours.pairs.is_empty() {
             pair_contacts(
                 &mut self.neighbours,
@@ -382,8 +382,8 @@ impl ContactStage {
 /// The fibre pairs' share of [`ContactStage::compute`] on one thread: each
 /// candidate of `list` (with its memory and the bodies' `motion` bounds)
 /// through the kernels into `points`, applied to `force` and `torque`.
-/// (Out of line, with [`apply`] inlined here: inlined into `compute`,
-/// that function's larger frame cost test case 2 0.1 % more instructions.)
+/// (Out of line, with [`apply`] inlined here: inlined into `compute`, its
+/// larger frame cost test case 2 0.1 % more instructions.)
 #[inline(never)]
 fn pair_contacts(
     list: &mut NeighbourList,
@@ -422,7 +422,7 @@ fn pair_contacts(
 }
 
 /// [`apply`] of a wall's points, out of line: inlined into the walls'
-/// loop it cost the nine-fibre scene 0.4 % more instructions.
+/// loop it cost test case 2 0.3 % more instructions.
 #[inline(never)]
 fn apply_wall(
     points: &[ContactPoint],

@@ -273,27 +273,30 @@ impl Crossing {
     }
 }
 
-/// Relative margin of [`ends_clear_of_lines`] over the rounding of its
-/// bound (~1e-14 of the reach²): where it says clear, so does the exact
-/// test of each end against the other's segment.
+/// Margin of [`ends_clear_of_lines`] over the rounding of its bound, in
+/// units of `(reach + along)²`: the rounding of `s`, `t` (hence of `v ⊥
+/// a, b`) is ~1e-16 of the lengths, and enters squared, so the margin
+/// scales with the lengths too (a fixed share of the reach² failed from
+/// `h/reach ≈ 2000` on).
 const CLEAR_MARGIN: f64 = 1e-9;
 
-/// Whether every end centre of a crossing pair (closest points `s`, `t`
-/// interior, depth `depth`) is beyond the capsule reach `r_A + r_B` of the
-/// other's axis *line*, hence of its segment (what `side_side`'s per-end
-/// test asks, in a dozen operations). At interior closest points `v =
-/// p_A − p_B` is ⊥ both axes, so A's end at `h_A ∓ s` along A from `p_A`
-/// is at `√(|v|² + (h_A ∓ s)² |a×b|²)` from B's line; the nearer end
-/// (`h_A − |s|`) decides (and likewise B's). Only where `segment_closest_params`
-/// solves for the lines' closest points ([`SOLVED_SIN2`]); its parallel
-/// branch takes the middle of the overlap instead, where `v` need not be ⊥ A.
+/// Whether every end centre of a crossing pair is beyond the capsule reach
+/// `r_A + r_B` of the other's axis *line*, hence of its segment (what
+/// `side_side`'s per-end test asks, in a dozen operations). For closest
+/// points `s`, `t` interior and `depth` the crossing's: there `v = p_A −
+/// p_B` is ⊥ both axes, so A's end `h_A ∓ s` along A from `p_A` is at
+/// `√(|v|² + (h_A ∓ s)² |a×b|²)` from B's line; the nearer end (`h_A −
+/// |s|`) decides (and likewise B's). Only where `segment_closest_params`
+/// solved for the lines' closest points ([`SOLVED_SIN2`]): its parallel
+/// branch takes the middle of the overlap, where `v` need not be ⊥ A.
 #[inline(always)]
 fn ends_clear_of_lines(a: &FibreGeom, b: &FibreGeom, s: f64, t: f64, depth: f64) -> bool {
     let reach = a.radius + b.radius;
     let d = reach - depth;
     let along = (a.half_length - s.abs()).min(b.half_length - t.abs());
     let sin2 = a.axis.cross(b.axis).length_squared();
-    sin2 > SOLVED_SIN2 && d * d + along * along * sin2 >= reach * reach * (1.0 + CLEAR_MARGIN)
+    let margin = CLEAR_MARGIN * (reach + along) * (reach + along);
+    sin2 > SOLVED_SIN2 && d * d + along * along * sin2 >= reach * reach + margin
 }
 
 /// `|a×b|²` above which [`ends_clear_of_lines`] trusts `s`, `t` to be the
@@ -513,47 +516,114 @@ mod tests {
         (p - f.centre - along * f.axis).length()
     }
 
+    /// The exact per-end test of `side_side`, by the reference distance.
+    fn every_end_clear(a: &FibreGeom, b: &FibreGeom) -> bool {
+        let reach = a.radius + b.radius;
+        [(a, b), (b, a)].iter().all(|(f, o)| {
+            [1.0, -1.0]
+                .iter()
+                .all(|&sign| to_segment(f.centre + sign * f.half_length * f.axis, o) >= reach)
+        })
+    }
+
+    /// `ends_clear_of_lines` where `side_side` asks it (closest points
+    /// interior, the crossing at least its band deep).
+    fn said_clear(a: &FibreGeom, b: &FibreGeom) -> Option<bool> {
+        let (s, t) = segment_closest_params(a, b);
+        if s.abs() >= a.half_length || t.abs() >= b.half_length {
+            return None;
+        }
+        let cp = interior_contact(a, b, s, t);
+        (cp.depth >= 0.25 * TIE_BAND + CROSSING_BAND)
+            .then(|| ends_clear_of_lines(a, b, s, t, cp.depth))
+    }
+
     /// `ends_clear_of_lines` is sufficient: wherever it says clear, every
     /// end centre of both fibres is at least the capsule reach from the
-    /// other's axis segment (the per-end test it stands in for). Crossing
-    /// pairs of random sizes, placed so that many ends come near the other
-    /// fibre (an end within the reach in ~half of them); it must also say
-    /// clear for most of the clear ones (not vacuous).
+    /// other's axis segment (the per-end test it stands in for). Random
+    /// crossings of random sizes, placed so that ends often come near the
+    /// other fibre; it must also say clear for most of the clear ones (not
+    /// vacuous).
     #[test]
     fn ends_clear_of_lines_implies_every_end_clear() {
         let mut u = Uniform(0x9e37_79b9_7f4a_7c15);
-        let (mut interior, mut said_clear, mut truly_clear) = (0, 0, 0);
+        let (mut crossings, mut said, mut clear) = (0, 0, 0);
         for _ in 0..200_000 {
             let (a, b) = (u.fibre(0.02), u.fibre(0.02));
-            let (s, t) = segment_closest_params(&a, &b);
-            if s.abs() >= a.half_length || t.abs() >= b.half_length {
+            let Some(says) = said_clear(&a, &b) else {
                 continue;
-            }
-            interior += 1;
-            let cp = interior_contact(&a, &b, s, t);
-            let reach = a.radius + b.radius;
-            let ends_clear = [(&a, &b), (&b, &a)].iter().all(|(f, o)| {
-                [1.0, -1.0]
-                    .iter()
-                    .all(|&sign| to_segment(f.centre + sign * f.half_length * f.axis, o) >= reach)
-            });
-            truly_clear += usize::from(ends_clear);
-            if ends_clear_of_lines(&a, &b, s, t, cp.depth) {
-                said_clear += 1;
-                assert!(
-                    ends_clear,
-                    "{a:?} {b:?}: said clear, an end is within the reach"
-                );
+            };
+            crossings += 1;
+            let truly = every_end_clear(&a, &b);
+            clear += usize::from(truly);
+            if says {
+                said += 1;
+                assert!(truly, "{a:?} {b:?}: said clear, an end is within the reach");
             }
         }
-        assert!(interior > 20_000, "{interior} interior pairs");
+        assert!(crossings > 20_000, "{crossings} crossings");
         assert!(
-            truly_clear < interior * 9 / 10,
-            "{truly_clear} of {interior}: few ends near"
+            clear < crossings * 9 / 10,
+            "{clear} of {crossings}: few ends near"
         );
-        assert!(
-            said_clear > truly_clear * 9 / 10,
-            "said clear {said_clear} of {truly_clear} clear"
-        );
+        assert!(said > clear * 9 / 10, "said clear {said} of {clear} clear");
+    }
+
+    /// At the threshold: A's nearer end placed at `reach·(1 + k·1e-12)`
+    /// from B's line (its projection inside B, B's ends far), k = −50…50,
+    /// for `h/reach` 1.5, 50 and 2500 (the tilt making that end's distance
+    /// half from the tilt, half from the offset `d`): never said clear,
+    /// since within the margin. And the parallel branch (|a×b| = 9e-8,
+    /// 20 m fibres of 1 µm radius, a crossing 1 µm deep, an end 1.4 nm
+    /// within the reach): not said clear.
+    #[test]
+    fn ends_clear_of_lines_holds_at_the_threshold_and_when_parallel() {
+        let mut tried = 0;
+        let cases: [(f64, f64); 3] = [(0.005, 1.5), (0.002, 50.0), (1e-4, 2500.0)];
+        for (r, ratio) in cases {
+            let reach = 2.0 * r;
+            let h = ratio * reach;
+            let s = 0.1 * h;
+            let sin = 0.5 * reach / (h - s);
+            let a_axis = DVec3::new((1.0 - sin * sin).sqrt(), sin, 0.0);
+            let b = FibreGeom {
+                centre: DVec3::new(0.3, -0.2, 0.1),
+                axis: DVec3::X,
+                radius: r,
+                half_length: 4.0 * h,
+            };
+            for k in -50..=50 {
+                let target = reach * (1.0 + f64::from(k) * 1e-12);
+                let d = (target * target - 0.25 * reach * reach).sqrt();
+                let a = FibreGeom {
+                    centre: b.centre + DVec3::new(0.0, 0.0, d) - s * a_axis,
+                    axis: a_axis,
+                    radius: r,
+                    half_length: h,
+                };
+                let says = said_clear(&a, &b).expect("a crossing");
+                tried += 1;
+                assert!(
+                    !says,
+                    "k = {k}, h/reach = {ratio}: said clear within the margin"
+                );
+                if k < 0 {
+                    assert!(
+                        !every_end_clear(&a, &b),
+                        "k = {k}: the pose is not at the threshold"
+                    );
+                }
+            }
+        }
+        assert_eq!(tried, 303);
+        let parallel = |y: f64, tilt: f64| FibreGeom {
+            centre: DVec3::new(0.0, y, 0.0),
+            axis: DVec3::new(tilt.cos(), tilt.sin(), 0.0),
+            radius: 1e-6,
+            half_length: 20.0,
+        };
+        let (a, b) = (parallel(1e-6, 9e-8), parallel(0.0, 0.0));
+        assert_eq!(said_clear(&a, &b), Some(false));
+        assert!(!every_end_clear(&a, &b));
     }
 }
