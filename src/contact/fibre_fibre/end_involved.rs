@@ -688,30 +688,8 @@ fn generator_crossing(a: &FibreGeom, b: &FibreGeom, n: DVec3) -> DVec3 {
 
 #[cfg(test)]
 mod tests {
+    use super::super::uniform::Uniform;
     use super::*;
-
-    /// A deterministic stream of uniforms in [0, 1) (xorshift64*).
-    struct Uniform(u64);
-    impl Uniform {
-        fn next(&mut self) -> f64 {
-            self.0 ^= self.0 >> 12;
-            self.0 ^= self.0 << 25;
-            self.0 ^= self.0 >> 27;
-            (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn vec(&mut self, scale: f64) -> DVec3 {
-            scale * DVec3::new(self.next() - 0.5, self.next() - 0.5, self.next() - 0.5)
-        }
-        /// Test case 1's fibre (D = 0.01 m, L = 0.025 m) near the origin.
-        fn fibre(&mut self, spread: f64) -> FibreGeom {
-            FibreGeom {
-                centre: self.vec(spread),
-                axis: self.vec(1.0).normalize(),
-                radius: 0.005,
-                half_length: 0.0125,
-            }
-        }
-    }
 
     /// Distance from `q` to the disc (centre `e`, unit normal `u`, radius
     /// `r`), closed form.

@@ -33,6 +33,8 @@ mod search;
 mod segment;
 mod side_side;
 mod support;
+#[cfg(test)]
+mod uniform;
 
 use blend::push_weighted;
 pub use blend::{END_TIE_BAND, TIE_BAND};

@@ -481,29 +481,17 @@ pub(super) fn side_side(
 
 #[cfg(test)]
 mod tests {
+    use super::super::uniform::Uniform;
     use super::*;
     use crate::contact::fibre_fibre::segment_closest_params;
 
-    /// A deterministic stream of uniforms in [0, 1) (xorshift64*).
-    struct Uniform(u64);
-    impl Uniform {
-        fn next(&mut self) -> f64 {
-            self.0 ^= self.0 >> 12;
-            self.0 ^= self.0 << 25;
-            self.0 ^= self.0 >> 27;
-            (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn vec(&mut self, scale: f64) -> DVec3 {
-            scale * DVec3::new(self.next() - 0.5, self.next() - 0.5, self.next() - 0.5)
-        }
-        fn fibre(&mut self, spread: f64) -> FibreGeom {
-            FibreGeom {
-                centre: self.vec(spread),
-                axis: self.vec(1.0).normalize(),
-                radius: 0.002 + 0.004 * self.next(),
-                half_length: 0.005 + 0.03 * self.next(),
-            }
-        }
+    /// A fibre of random size (D 4–12 mm, L 10–70 mm) within `spread` of
+    /// the origin.
+    fn fibre(u: &mut Uniform, spread: f64) -> FibreGeom {
+        let mut f = u.fibre(spread);
+        f.radius = 0.002 + 0.004 * u.next();
+        f.half_length = 0.005 + 0.03 * u.next();
+        f
     }
 
     /// Reference: the distance from `p` to the segment of `f`'s axis,
@@ -549,7 +537,7 @@ mod tests {
         let mut u = Uniform(0x9e37_79b9_7f4a_7c15);
         let (mut crossings, mut said, mut clear) = (0, 0, 0);
         for _ in 0..200_000 {
-            let (a, b) = (u.fibre(0.02), u.fibre(0.02));
+            let (a, b) = (fibre(&mut u, 0.02), fibre(&mut u, 0.02));
             let Some(says) = said_clear(&a, &b) else {
                 continue;
             };
