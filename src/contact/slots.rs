@@ -8,10 +8,12 @@
 //! The serial order of a body's sum is the candidate list's: its walls
 //! (the list is body-major), then its pairs in sorted `(i, j)` order (its
 //! side-B pairs `(i, b)`, `i < b`, all come before its own row). So the
-//! list can be computed a window of blocks at a time, each window's loads
-//! added before the next window's: only two windows' slots are held (one
-//! being added while the next is computed), not the whole list's (issue 10
-//! item 7).
+//! blocks can be added one at a time in list order, each as soon as it and
+//! those before it are computed: the pool's threads take the blocks in
+//! order, compute each into a ring of [`RING`] slots, and whichever thread
+//! finds the oldest computed block not yet added adds it. Only the ring's
+//! blocks are held, not the whole list's (issue 10 item 7), and no thread
+//! waits for the others until the list's last block.
 
 use super::broad::NeighbourList;
 use super::damping::{Damping, DampingView};
@@ -23,7 +25,8 @@ use super::{
     Wall,
 };
 use glam::DVec3;
-use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Mutex, MutexGuard, PoisonError};
 
 /// One contact point's loads on its two bodies, computed once with the
 /// serial stage's expressions: the force on A (B gets minus it) and the
@@ -78,13 +81,12 @@ struct PointLoad {
 /// balance the end-involved pairs' 10× cost spread.
 pub(super) const BLOCK: usize = 256;
 
-/// Blocks per window: the candidates computed before their loads are
-/// added (2048). Two windows' slots are held (one being added while the
-/// next is computed), ~0.25 MB in a settled bed: at 16 blocks `bed_10k`'s
-/// copy of 10⁵ fibres held 514 B per fibre on 2 threads, at 8 506 B, at the
-/// same speed (the pipeline hides the windows' ends). The bits do not
-/// depend on it (nor on [`BLOCK`]).
-const WINDOW: usize = 8;
+/// Blocks in flight: block `n` is computed into slot `n % RING` once block
+/// `n − RING` has been added. 16 blocks (4096 candidates, ~0.25 MB in a
+/// settled bed) let a thread run ~8 blocks ahead of the adding on two
+/// threads, far more than the ~30× spread of the blocks' costs needs. The
+/// bits do not depend on it (nor on [`BLOCK`]).
+const RING: usize = 16;
 
 /// The touching candidates of one block of a candidate list, computed on one
 /// thread: which candidates touch (a bit each; a hit's index is the count
@@ -92,32 +94,37 @@ const WINDOW: usize = 8;
 /// candidate order, the points' damping loads
 /// (empty without damping), and the block's share of the statistics
 /// (touching count and largest overlap; the elastic energy is summed over
-/// the blocks in order afterwards). A block serves every window of a step;
-/// its buffers are trimmed to the step's largest use with hysteresis
-/// ([`trim`]), so a settled scene steps without allocating.
-#[derive(Debug, Clone, Default)]
+/// the blocks in order afterwards), the kernels' counts, and which block
+/// of the list it holds. A slot serves many blocks of a step; its buffers
+/// are trimmed to the step's largest use with hysteresis ([`trim`]), so a
+/// settled scene steps without allocating.
+#[derive(Debug, Default)]
 struct Block {
     touched: [u64; BLOCK / 64],
     ends: Vec<u16>,
     points: Vec<PointLoad>,
     damp: Vec<Wrench>,
     stats: ContactStats,
+    counters: KernelCounters,
+    /// `n + 1` once block `n` of the list is computed here (0: none yet).
+    computed: usize,
     /// The largest lengths of `ends`, `points`, `damp` in this step's
-    /// windows (what [`Block::trim`] keeps).
+    /// blocks (what [`Block::trim`] keeps).
     high: [usize; 3],
 }
 
-/// The parallel stage's buffers, kept between steps: two windows' blocks
-/// of wall and of pair candidates (the first set all of them when the
-/// stage keeps every hit for [`Slots::for_each_hit`]).
-#[derive(Debug, Clone)]
+/// A ring of block slots (each locked by the thread computing or adding it).
+type Ring = Vec<Mutex<Block>>;
+
+/// The parallel stage's buffers, kept between steps: the rings of wall and
+/// of pair candidates (holding every block of the list when the stage
+/// keeps every hit for [`Slots::for_each_hit`]).
+#[derive(Debug)]
 pub(crate) struct Slots {
-    /// Two sets, one being added while the next window is computed into
-    /// the other ([`Sums::windows`]).
-    wall_blocks: [Vec<Block>; 2],
-    pair_blocks: [Vec<Block>; 2],
-    /// Blocks per window ([`WINDOW`]; tests make it smaller).
-    pub(super) window: usize,
+    wall_ring: Ring,
+    pair_ring: Ring,
+    /// Blocks in flight ([`RING`]; tests make it smaller).
+    pub(super) ring: usize,
     /// The neighbour-list build whose order was last checked.
     checked: u64,
 }
@@ -125,12 +132,58 @@ pub(crate) struct Slots {
 impl Default for Slots {
     fn default() -> Self {
         Slots {
-            wall_blocks: [vec![], vec![]],
-            pair_blocks: [vec![], vec![]],
-            window: WINDOW,
+            wall_ring: vec![],
+            pair_ring: vec![],
+            ring: RING,
             checked: 0,
         }
     }
+}
+
+/// A copy's slots start empty: they hold nothing between steps but
+/// buffers (and, after an MPI rank's computation, its hits, which the
+/// rank reads before anything is copied).
+impl Clone for Slots {
+    fn clone(&self) -> Self {
+        Slots {
+            ring: self.ring,
+            ..Slots::default()
+        }
+    }
+}
+
+/// Run `work` on `threads` threads of the pool (a tree of `rayon::join`s:
+/// unlike a scope's spawns, no allocation). A `work` not taken by another
+/// thread runs after the first, and finds nothing left to do.
+fn on_threads(threads: usize, work: &(impl Fn() + Sync)) {
+    if threads <= 1 {
+        work();
+    } else {
+        let half = threads / 2;
+        rayon::join(
+            || on_threads(half, work),
+            || on_threads(threads - half, work),
+        );
+    }
+}
+
+/// Sets its flag if dropped by a panicking thread.
+struct OnPanic<'a>(&'a AtomicBool);
+
+impl Drop for OnPanic<'_> {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            self.0.store(true, Ordering::Relaxed);
+        }
+    }
+}
+
+/// The slot behind `m`. A thread that panicked while holding it (a bug in
+/// a kernel) has already taken the step down with it: the pool's join
+/// re-raises the panic when it ends, so a poisoned slot is never read.
+#[inline]
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
 /// Release what `v` holds beyond a use of `len` with hysteresis: keep up
@@ -198,14 +251,7 @@ impl Block {
         self.ends.push(index(self.points.len()));
     }
 
-    /// The points of hit `s` (in block order).
-    #[inline]
-    fn range(&self, s: usize) -> std::ops::Range<usize> {
-        let start = if s == 0 { 0 } else { self.ends[s - 1] as usize };
-        start..self.ends[s] as usize
-    }
-
-    /// Ready for the next window (its use noted for [`Block::trim`]).
+    /// Ready for the next block (its use noted for [`Block::trim`]).
     fn clear(&mut self) {
         let lens = [self.ends.len(), self.points.len(), self.damp.len()];
         for (h, l) in self.high.iter_mut().zip(lens) {
@@ -216,9 +262,11 @@ impl Block {
         self.points.clear();
         self.damp.clear();
         self.stats = ContactStats::default();
+        self.counters = KernelCounters::default();
+        self.computed = 0;
     }
 
-    /// At the end of a step: release what the step's windows did not use.
+    /// At the end of a step: release what the step's blocks did not use.
     fn trim(&mut self) {
         self.clear();
         let [e, p, d] = std::mem::take(&mut self.high);
@@ -227,10 +275,11 @@ impl Block {
         trim(&mut self.damp, d);
     }
 
-    /// Each hit's candidate (index in the block), in order.
+    /// Each hit's candidate (index in the block) and the range of its
+    /// points, in order.
     #[inline]
-    fn hits(&self) -> impl Iterator<Item = usize> + '_ {
-        self.touched.iter().enumerate().flat_map(|(w, &word)| {
+    fn hits(&self) -> impl Iterator<Item = (usize, std::ops::Range<usize>)> + '_ {
+        let candidates = self.touched.iter().enumerate().flat_map(|(w, &word)| {
             let mut bits = word;
             std::iter::from_fn(move || {
                 (bits != 0).then(|| {
@@ -239,6 +288,12 @@ impl Block {
                     64 * w + k
                 })
             })
+        });
+        let mut start = 0;
+        candidates.zip(&self.ends).map(move |(k, &end)| {
+            let points = start..usize::from(end);
+            start = usize::from(end);
+            (k, points)
         })
     }
 }
@@ -269,53 +324,49 @@ impl<T, M, F> Eval<T, M> for F where
 {
 }
 
-/// Compute every candidate of `candidates` (with its entry of `memory`)
-/// into the first of `blocks` (one per [`BLOCK`] candidates, on the pool;
-/// more are made if needed); returns how many blocks it used and the
-/// kernels' counts. `eval(k, candidate, memory, buffer, counters, block)`
-/// pushes candidate `k`'s hit to the block if it touches.
-fn compute_blocks<T: Sync, M: Send>(
+/// Compute block `n` of a candidate list (its `candidates` with their
+/// `memory`, one each) into `block`: `eval(k, candidate, memory, buffer,
+/// counters, block)` pushes candidate `k`'s hit to the block if it
+/// touches.
+fn compute_block<T, M>(
+    n: usize,
     candidates: &[T],
     memory: &mut [M],
-    blocks: &mut Vec<Block>,
+    block: &mut Block,
     eval: &impl Eval<T, M>,
-) -> (usize, KernelCounters) {
-    let used = candidates.len().div_ceil(BLOCK);
-    if blocks.len() < used {
-        blocks.resize_with(used, Block::default);
-    }
-    let counters = blocks[..used]
-        .par_iter_mut()
-        .zip(candidates.par_chunks(BLOCK))
-        .zip(memory.par_chunks_mut(BLOCK))
-        .with_min_len(1)
-        .map(|((block, cands), memory)| {
-            let mut counters = KernelCounters::default();
-            block.clear();
-            BUF.with_borrow_mut(|buf| {
-                for (k, (c, m)) in cands.iter().zip(memory).enumerate() {
-                    buf.clear();
-                    eval(k, c, m, buf, &mut counters, block);
-                }
-            });
-            counters
-        })
-        .reduce(KernelCounters::default, |a, b| a + b);
-    (used, counters)
+) {
+    block.clear();
+    let mut counters = KernelCounters::default();
+    BUF.with_borrow_mut(|buf| {
+        for (k, (c, m)) in candidates.iter().zip(memory).enumerate() {
+            buf.clear();
+            eval(k, c, m, buf, &mut counters, block);
+        }
+    });
+    block.counters = counters;
+    block.computed = n + 1;
 }
 
 /// Which loads of a block's points a gather adds.
 trait Load {
-    fn wrench(block: &Block, i: usize) -> &Wrench;
+    /// A block's record of each point, in point order.
+    type Record;
+    fn records(block: &Block) -> &[Self::Record];
+    fn wrench(record: &Self::Record) -> &Wrench;
 }
 
 /// The Hertz force with its damping part (`PointLoad::wrench`).
 struct Total;
 
 impl Load for Total {
+    type Record = PointLoad;
     #[inline]
-    fn wrench(block: &Block, i: usize) -> &Wrench {
-        &block.points[i].wrench
+    fn records(block: &Block) -> &[PointLoad] {
+        &block.points
+    }
+    #[inline]
+    fn wrench(record: &PointLoad) -> &Wrench {
+        &record.wrench
     }
 }
 
@@ -323,54 +374,44 @@ impl Load for Total {
 struct DampingPart;
 
 impl Load for DampingPart {
+    type Record = Wrench;
     #[inline]
-    fn wrench(block: &Block, i: usize) -> &Wrench {
-        &block.damp[i]
+    fn records(block: &Block) -> &[Wrench] {
+        &block.damp
+    }
+    #[inline]
+    fn wrench(record: &Wrench) -> &Wrench {
+        record
     }
 }
 
-/// Add the loads `L` of a window's `blocks` to the bodies' sums, point by
+/// Add the loads `L` of a computed `block` to the bodies' sums, point by
 /// point in candidate order as the serial stage does: side A `+F`, `+τ_A`,
 /// side B `−F`, `−τ_B`. `bodies(candidate)` are its body A and body B
-/// (none for a wall); `cands` are the window's.
+/// (none for a wall); `cands` are the block's.
 #[inline]
-fn add_window<L: Load, T>(
-    blocks: &[Block],
+fn add_block<L: Load, T>(
+    block: &Block,
     cands: &[T],
     bodies: &impl Fn(&T) -> (usize, Option<usize>),
     force: &mut [DVec3],
     torque: &mut [DVec3],
 ) {
-    for (n, block) in blocks.iter().enumerate() {
-        for (s, k) in block.hits().enumerate() {
-            let (a, b) = bodies(&cands[n * BLOCK + k]);
-            for i in block.range(s) {
-                let w = L::wrench(block, i);
-                force[a] += w.force;
-                torque[a] += w.torque_a;
-                if let Some(b) = b {
-                    force[b] -= w.force;
-                    torque[b] -= w.torque_b;
-                }
+    let records = L::records(block);
+    for (k, points) in block.hits() {
+        let (a, b) = bodies(&cands[k]);
+        for w in records[points].iter().map(L::wrench) {
+            force[a] += w.force;
+            torque[a] += w.torque_a;
+            if let Some(b) = b {
+                force[b] -= w.force;
+                torque[b] -= w.torque_b;
             }
         }
     }
 }
 
-/// Add a window's statistics to `stats` in the serial order: the blocks'
-/// counts and first largest overlaps, then the energy point by point (a
-/// sum of partial sums would round differently).
-fn reduce(blocks: &[Block], stats: &mut ContactStats) {
-    for part in blocks.iter().map(|b| &b.stats) {
-        stats.touching += part.touching;
-        stats.note_overlap(part.max_overlap_ratio, part.max_overlap_body);
-    }
-    for p in blocks.iter().flat_map(|b| &b.points) {
-        stats.elastic += p.energy;
-    }
-}
-
-/// Where a window's loads go: each body's forces and torques, its damping
+/// Where the blocks' loads go: each body's forces and torques, its damping
 /// loads (damped scenes), the statistics and the kernels' counts.
 struct Sums<'a> {
     force: &'a mut [DVec3],
@@ -381,57 +422,124 @@ struct Sums<'a> {
 }
 
 impl Sums<'_> {
-    /// Compute `candidates` (with their `memory`, one each) a `window` at a
-    /// time (`eval` as in [`compute_blocks`]) and add each window's loads
-    /// and statistics in the serial order before the next's; `bodies(candidate)`
-    /// are its body A and body B (none for a wall). Pipelined: while one
-    /// thread adds a window's loads, the others compute the next window
-    /// (into `blocks[0]` and `blocks[1]` in turn), then join it. The adding reads
-    /// the whole window whatever body range it covers, so split over the
-    /// threads it did not run faster; overlapped, it costs its share of a
-    /// thread's time.
-    fn windows<T: Sync, M: Send>(
+    /// Add a computed `block` (its candidates `cands`) to the sums, and
+    /// its statistics, in the serial order: the counts and the first
+    /// largest overlap, then the energy point by point (a sum of partial
+    /// sums would round differently).
+    fn add<T>(
+        &mut self,
+        block: &Block,
+        cands: &[T],
+        bodies: &impl Fn(&T) -> (usize, Option<usize>),
+    ) {
+        self.counters = self.counters + block.counters;
+        add_block::<Total, T>(block, cands, bodies, self.force, self.torque);
+        if let Some((df, dt)) = &mut self.damping {
+            add_block::<DampingPart, T>(block, cands, bodies, df, dt);
+        }
+        self.stats.touching += block.stats.touching;
+        let (ratio, body) = (block.stats.max_overlap_ratio, block.stats.max_overlap_body);
+        self.stats.note_overlap(ratio, body);
+        for p in &block.points {
+            self.stats.elastic += p.energy;
+        }
+    }
+
+    /// Compute `candidates` (with their `memory`, one each; `eval` as in
+    /// [`compute_block`]) on every thread of the pool, into the `size`
+    /// slots of `ring` (made if missing), and add each block's loads in
+    /// list order; `bodies(candidate)` are its body A and body B (none for
+    /// a wall). The threads take the blocks in order; after each, a thread
+    /// adds every block that is next in order and computed, unless another
+    /// thread is adding; a thread whose next block's slot still holds a
+    /// block not added adds or waits. So the adding (serial: it reads any
+    /// body) overlaps the computing, and the threads meet once, at the
+    /// list's end, not at every window of blocks.
+    fn in_order<T: Sync, M: Send>(
         &mut self,
         candidates: &[T],
         memory: &mut [M],
-        window: usize,
-        blocks: &mut [Vec<Block>; 2],
+        ring: &mut Ring,
+        size: usize,
         eval: impl Eval<T, M>,
         bodies: impl Fn(&T) -> (usize, Option<usize>) + Sync,
     ) {
-        let mut chunks = candidates.chunks(window).zip(memory.chunks_mut(window));
-        let Some((first, first_memory)) = chunks.next() else {
-            return;
+        let total = candidates.len().div_ceil(BLOCK);
+        let size = size.clamp(1, total.max(1));
+        if ring.len() < size {
+            ring.resize_with(size, Mutex::default);
+        }
+        let ring = &ring[..size];
+        // The blocks not yet taken, in order.
+        let next = Mutex::new(
+            candidates
+                .chunks(BLOCK)
+                .zip(memory.chunks_mut(BLOCK))
+                .enumerate(),
+        );
+        // Blocks added so far (the sums' lock orders its updates).
+        let added = AtomicUsize::new(0);
+        let sums = Mutex::new(self);
+        // Add the computed blocks that are next in order, unless another
+        // thread holds the sums (it adds them); whether any was added.
+        let add_ready = || {
+            let mut any = false;
+            while let Ok(mut sums) = sums.try_lock() {
+                let mut n = added.load(Ordering::Relaxed);
+                while n < total {
+                    // A slot locked is being computed (or read): not ready.
+                    let Ok(block) = ring[n % size].try_lock() else {
+                        break;
+                    };
+                    if block.computed != n + 1 {
+                        break;
+                    }
+                    sums.add(&block, &candidates[n * BLOCK..], &bodies);
+                    n += 1;
+                    added.store(n, Ordering::Release);
+                    any = true;
+                }
+                drop(sums);
+                // A block finished while the sums were held found them
+                // taken and left its adding here: look again.
+                let ready =
+                    n < total && ring[n % size].try_lock().is_ok_and(|b| b.computed == n + 1);
+                if !ready {
+                    break;
+                }
+            }
+            any
         };
-        let [mut front, mut back] = blocks.each_mut();
-        // The window computed into `front` and not yet added.
-        let (mut ready, mut done) = (first, compute_blocks(first, first_memory, front, &eval));
-        for (cands, memory) in chunks {
-            let ((), next) = rayon::join(
-                || self.add(&front[..done.0], ready, done.1, &bodies),
-                || compute_blocks(cands, memory, back, &eval),
-            );
-            std::mem::swap(&mut front, &mut back);
-            (ready, done) = (cands, next);
+        // Set by a thread that panics (a kernel's bug): the others stop
+        // waiting for its block, and the join re-raises the panic.
+        let abandoned = AtomicBool::new(false);
+        let work = || {
+            let _panic = OnPanic(&abandoned);
+            loop {
+                // (A statement of its own: the lock is released at its end.)
+                let taken = lock(&next).next();
+                let Some((n, (cands, memory))) = taken else {
+                    return;
+                };
+                // Slot `n % size` is free once block `n − size` is added.
+                while n >= added.load(Ordering::Acquire) + size {
+                    if abandoned.load(Ordering::Relaxed) {
+                        return;
+                    }
+                    if !add_ready() {
+                        std::thread::yield_now();
+                    }
+                }
+                compute_block(n, cands, memory, &mut lock(&ring[n % size]), &eval);
+                add_ready();
+            }
+        };
+        on_threads(rayon::current_num_threads(), &work);
+        // Every block is computed; what the threads left is added here.
+        let sums = sums.into_inner().unwrap_or_else(PoisonError::into_inner);
+        for n in added.into_inner()..total {
+            sums.add(&lock(&ring[n % size]), &candidates[n * BLOCK..], &bodies);
         }
-        self.add(&front[..done.0], ready, done.1, &bodies);
-    }
-
-    /// Add a computed window (its `blocks`, candidates `cands` and kernel
-    /// `counts`) to the sums, in the serial order.
-    fn add<T>(
-        &mut self,
-        blocks: &[Block],
-        cands: &[T],
-        counts: KernelCounters,
-        bodies: &impl Fn(&T) -> (usize, Option<usize>),
-    ) {
-        self.counters = self.counters + counts;
-        add_window::<Total, T>(blocks, cands, bodies, self.force, self.torque);
-        if let Some((df, dt)) = &mut self.damping {
-            add_window::<DampingPart, T>(blocks, cands, bodies, df, dt);
-        }
-        reduce(blocks, &mut self.stats);
     }
 }
 
@@ -439,8 +547,8 @@ impl Slots {
     /// The contact forces and torques of every body (overwritten), and the
     /// scene statistics, bit for bit as the serial stage computes them;
     /// with `damping` (and the velocities in `states`), the damping forces
-    /// and their per-body loads too. With `keep_hits` the whole list is
-    /// one window, whose hits stay for [`Slots::for_each_hit`].
+    /// and their per-body loads too. With `keep_hits` the rings hold the
+    /// whole list, whose hits stay for [`Slots::for_each_hit`].
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn compute(
         &mut self,
@@ -460,9 +568,9 @@ impl Slots {
         keep_hits: bool,
     ) -> ContactStats {
         // The last step's hits (kept for `for_each_hit`) go; what its
-        // windows did not use is released.
-        let sets = self.wall_blocks.iter_mut().chain(&mut self.pair_blocks);
-        sets.flatten().for_each(Block::trim);
+        // blocks did not use is released.
+        let slots = self.wall_ring.iter_mut().chain(&mut self.pair_ring);
+        slots.for_each(|b| b.get_mut().unwrap_or_else(PoisonError::into_inner).trim());
         force.fill(DVec3::ZERO);
         torque.fill(DVec3::ZERO);
         let (view, loads) = match damping {
@@ -473,13 +581,9 @@ impl Slots {
             None => (None, None),
         };
         let view = view.as_ref();
-        let window = if keep_hits {
-            usize::MAX
-        } else {
-            self.window * BLOCK
-        };
+        let size = if keep_hits { usize::MAX } else { self.ring };
         if self.checked != list.builds {
-            // The serial order the windows reproduce rests on these.
+            // The serial order the blocks are added in rests on these.
             assert!(
                 list.pairs.iter().all(|&(i, j)| i < j) && list.pairs.is_sorted(),
                 "pairs (i < j), sorted"
@@ -499,11 +603,11 @@ impl Slots {
         };
         // Walls first, then pairs: each body's serial order. (Walls
         // remember nothing: a zero-sized entry each, no allocation.)
-        sums.windows(
+        sums.in_order(
             &list.walls,
             &mut vec![(); list.walls.len()],
-            window,
-            &mut self.wall_blocks,
+            &mut self.wall_ring,
+            size,
             |k, &(i, w), _: &mut (), buf, c, out| {
                 let (g, i) = (&geoms[i as usize], i as usize);
                 contacts(
@@ -518,11 +622,11 @@ impl Slots {
             },
             |&(i, _)| (i as usize, None),
         );
-        sums.windows(
+        sums.in_order(
             &list.pairs,
             &mut list.memory,
-            window,
-            &mut self.pair_blocks,
+            &mut self.pair_ring,
+            size,
             |k, &(a, b), memory: &mut PairMemory, buf, c, out| {
                 let (a, b) = (a as usize, b as usize);
                 let (ga, gb) = (&geoms[a], &geoms[b]);
@@ -554,17 +658,18 @@ impl Slots {
         geoms: &[FibreGeom],
         mut f: impl FnMut(bool, u32, &mut dyn Iterator<Item = [f64; 3]>),
     ) {
-        // With `keep_hits` the first blocks hold the whole list.
+        // With `keep_hits` the rings hold the whole list.
         let (walls, pairs) = (list.walls.len(), list.pairs.len());
-        for (n, block) in self.wall_blocks[0][..walls.div_ceil(BLOCK)]
+        for (n, block) in self.wall_ring[..walls.div_ceil(BLOCK)]
             .iter()
+            .map(lock)
             .enumerate()
         {
-            for (s, k) in block.hits().enumerate() {
+            for (k, points) in block.hits() {
                 let candidate = (n * BLOCK + k) as u32;
                 let a = list.walls[candidate as usize].0 as usize;
                 let ra = 2.0 * geoms[a].radius;
-                let points = &block.points[block.range(s)];
+                let points = &block.points[points];
                 f(
                     true,
                     candidate,
@@ -572,18 +677,19 @@ impl Slots {
                 );
             }
         }
-        for (n, block) in self.pair_blocks[0][..pairs.div_ceil(BLOCK)]
+        for (n, block) in self.pair_ring[..pairs.div_ceil(BLOCK)]
             .iter()
+            .map(lock)
             .enumerate()
         {
-            for (s, k) in block.hits().enumerate() {
+            for (k, points) in block.hits() {
                 let candidate = (n * BLOCK + k) as u32;
                 let (a, b) = list.pairs[candidate as usize];
                 let (ra, rb) = (
                     2.0 * geoms[a as usize].radius,
                     2.0 * geoms[b as usize].radius,
                 );
-                let points = &block.points[block.range(s)];
+                let points = &block.points[points];
                 f(
                     false,
                     candidate,

@@ -666,8 +666,8 @@ mod tests {
         (bits, stage.stats, stage.dissipated().to_bits())
     }
 
-    /// The pool's stage (`slots.rs`: candidates in fixed blocks, added a
-    /// window at a time) gives the one-thread stage's bits on a scene of several
+    /// The pool's stage (`slots.rs`: candidates in fixed blocks, added one
+    /// at a time in order) gives the one-thread stage's bits on a scene of several
     /// blocks of walls and pairs, elastic and damped, at a first and at a
     /// second configuration (the blocks' buffers reused, some contacts
     /// gone, others new). The reference is the one-thread stage, an
@@ -716,20 +716,21 @@ mod tests {
                 second.1.touching
             );
             assert_eq!(one.neighbour_builds(), 1, "the list is kept");
-            // Windows of 1 and 2 blocks: the walls' two blocks and the pairs'
-            // twelve added a window at a time (the default holds them all).
-            for (threads, window) in [(2, None), (3, None), (2, Some(1)), (3, Some(2))] {
+            // Rings of 1 and 2 slots: the walls' two blocks and the pairs'
+            // twelve computed at most one or two ahead of the adding (the
+            // default holds them all).
+            for (threads, ring) in [(2, None), (3, None), (2, Some(1)), (3, Some(2))] {
                 let mut many = new();
-                if let Some(w) = window {
-                    many.slots.window = w;
+                if let Some(r) = ring {
+                    many.slots.ring = r;
                 }
                 assert!(
                     on_pool(&mut many, bodies, &scene.initial, threads) == first,
-                    "{threads} threads, window {window:?}, first configuration, damping {damping:?}"
+                    "{threads} threads, ring {ring:?}, first configuration, damping {damping:?}"
                 );
                 assert!(
                     on_pool(&mut many, bodies, &moved, threads) == second,
-                    "{threads} threads, window {window:?}, second configuration, damping {damping:?}"
+                    "{threads} threads, ring {ring:?}, second configuration, damping {damping:?}"
                 );
             }
         }
