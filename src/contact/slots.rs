@@ -89,9 +89,9 @@ pub(super) const BLOCK: usize = 256;
 const RING: usize = 16;
 
 /// The touching candidates of one block of a candidate list, computed on one
-/// thread: which candidates touch (a bit each; a hit's index is the count
-/// of set bits before it), per hit the end of its points, all points in
-/// candidate order, the points' damping loads
+/// thread: per hit (touching candidate) its index in the block and the
+/// end of its points, all points in candidate order, the points' damping
+/// loads
 /// (empty without damping), and the block's share of the statistics
 /// (touching count and largest overlap; the elastic energy is summed over
 /// the blocks in order afterwards), the kernels' counts, and which block
@@ -100,15 +100,14 @@ const RING: usize = 16;
 /// settled scene steps without allocating.
 #[derive(Debug, Default)]
 struct Block {
-    touched: [u64; BLOCK / 64],
-    ends: Vec<u16>,
+    hits: Vec<(u8, u16)>,
     points: Vec<PointLoad>,
     damp: Vec<Wrench>,
     stats: ContactStats,
     counters: KernelCounters,
     /// `n + 1` once block `n` of the list is computed here (0: none yet).
     computed: usize,
-    /// The largest lengths of `ends`, `points`, `damp` in this step's
+    /// The largest lengths of `hits`, `points`, `damp` in this step's
     /// blocks (what [`Block::trim`] keeps).
     high: [usize; 3],
 }
@@ -247,18 +246,16 @@ impl Block {
             }
         }
         self.stats.touching += 1;
-        self.touched[k / 64] |= 1 << (k % 64);
-        self.ends.push(index(self.points.len()));
+        self.hits.push((candidate(k), point(self.points.len())));
     }
 
     /// Ready for the next block (its use noted for [`Block::trim`]).
     fn clear(&mut self) {
-        let lens = [self.ends.len(), self.points.len(), self.damp.len()];
+        let lens = [self.hits.len(), self.points.len(), self.damp.len()];
         for (h, l) in self.high.iter_mut().zip(lens) {
             *h = (*h).max(l);
         }
-        self.touched = [0; BLOCK / 64];
-        self.ends.clear();
+        self.hits.clear();
         self.points.clear();
         self.damp.clear();
         self.stats = ContactStats::default();
@@ -269,8 +266,8 @@ impl Block {
     /// At the end of a step: release what the step's blocks did not use.
     fn trim(&mut self) {
         self.clear();
-        let [e, p, d] = std::mem::take(&mut self.high);
-        trim(&mut self.ends, e);
+        let [h, p, d] = std::mem::take(&mut self.high);
+        trim(&mut self.hits, h);
         trim(&mut self.points, p);
         trim(&mut self.damp, d);
     }
@@ -279,29 +276,26 @@ impl Block {
     /// points, in order.
     #[inline]
     fn hits(&self) -> impl Iterator<Item = (usize, std::ops::Range<usize>)> + '_ {
-        let candidates = self.touched.iter().enumerate().flat_map(|(w, &word)| {
-            let mut bits = word;
-            std::iter::from_fn(move || {
-                (bits != 0).then(|| {
-                    let k = bits.trailing_zeros() as usize;
-                    bits &= bits - 1;
-                    64 * w + k
-                })
-            })
-        });
         let mut start = 0;
-        candidates.zip(&self.ends).map(move |(k, &end)| {
+        self.hits.iter().map(move |&(k, end)| {
             let points = start..usize::from(end);
             start = usize::from(end);
-            (k, points)
+            (usize::from(k), points)
         })
     }
+}
+
+/// A candidate's index in its block, one byte ([`BLOCK`] is 256 at most).
+#[inline]
+fn candidate(k: usize) -> u8 {
+    const { assert!(BLOCK <= 256) };
+    k as u8
 }
 
 /// A point's index in its block (a block's 256 candidates have a few
 /// points each, far below 2¹⁶).
 #[inline]
-fn index(i: usize) -> u16 {
+fn point(i: usize) -> u16 {
     u16::try_from(i).expect("fewer than 2^16 contact points in a block")
 }
 
