@@ -1,9 +1,10 @@
 //! The force stage on many threads, with the bits of one: every candidate
-//! (pair or wall) is computed once, in parallel, into a slot of its block
-//! (a fixed partition of the candidate list); then each body adds its slots
-//! in the order the serial stage sums them, and the scene statistics are
-//! reduced in that order too. Forces, torques and energies are therefore
-//! bit-identical to the serial stage, whatever the thread count.
+//! (pair or wall) is computed once, in parallel, into its block (a fixed
+//! partition of the candidate list); the blocks' loads are then added to
+//! the bodies in the order the serial stage sums them, and the scene
+//! statistics are reduced in that order too. Forces, torques and energies
+//! are therefore bit-identical to the serial stage, whatever the thread
+//! count.
 //!
 //! The serial order of a body's sum is the candidate list's: its walls
 //! (the list is body-major), then its pairs in sorted `(i, j)` order (its
@@ -12,8 +13,8 @@
 //! those before it are computed: the pool's threads take the blocks in
 //! order, compute each into a ring of [`RING`] slots, and whichever thread
 //! finds the oldest computed block not yet added adds it. Only the ring's
-//! blocks are held, not the whole list's (issue 10 item 7), and no thread
-//! waits for the others until the list's last block.
+//! blocks are held, not the whole list's (issue 10 item 7); a thread waits
+//! only when the ring is full (the adding is behind) and at the list's end.
 
 use super::broad::NeighbourList;
 use super::damping::{Damping, DampingView};
@@ -153,7 +154,7 @@ impl Clone for Slots {
 
 /// Run `work` on `threads` threads of the pool (a tree of `rayon::join`s:
 /// unlike a scope's spawns, no allocation). A `work` not taken by another
-/// thread runs after the first, and finds nothing left to do.
+/// thread runs after the first, when the list is taken (or abandoned).
 fn on_threads(threads: usize, work: &(impl Fn() + Sync)) {
     if threads <= 1 {
         work();
@@ -179,7 +180,8 @@ impl Drop for OnPanic<'_> {
 
 /// The slot behind `m`. A thread that panicked while holding it (a bug in
 /// a kernel) has already taken the step down with it: the pool's join
-/// re-raises the panic when it ends, so a poisoned slot is never read.
+/// re-raises the panic, and the slot is cleared (and its poison) before a
+/// stage caught and reused computes again ([`Slots::compute`]).
 #[inline]
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(PoisonError::into_inner)
@@ -459,9 +461,16 @@ impl Sums<'_> {
         bodies: impl Fn(&T) -> (usize, Option<usize>) + Sync,
     ) {
         let total = candidates.len().div_ceil(BLOCK);
-        let size = size.clamp(1, total.max(1));
+        let size = size.min(total).max(1);
         if ring.len() < size {
             ring.resize_with(size, Mutex::default);
+        }
+        // No slot holds a block of this list yet (a slot's `computed`
+        // marks a block of the last call too, whose number may recur).
+        for slot in &mut ring[..size] {
+            slot.get_mut()
+                .unwrap_or_else(PoisonError::into_inner)
+                .computed = 0;
         }
         let ring = &ring[..size];
         // The blocks not yet taken, in order.
@@ -489,13 +498,16 @@ impl Sums<'_> {
                         break;
                     }
                     sums.add(&block, &candidates[n * BLOCK..], &bodies);
+                    drop(block);
                     n += 1;
                     added.store(n, Ordering::Release);
                     any = true;
                 }
                 drop(sums);
-                // A block finished while the sums were held found them
-                // taken and left its adding here: look again.
+                // A block finished while the sums were held may have found
+                // them taken and left its adding to this thread: look again
+                // now rather than at the next thread's block (the final
+                // loop below would add it anyway).
                 let ready =
                     n < total && ring[n % size].try_lock().is_ok_and(|b| b.computed == n + 1);
                 if !ready {
@@ -504,12 +516,15 @@ impl Sums<'_> {
             }
             any
         };
-        // Set by a thread that panics (a kernel's bug): the others stop
-        // waiting for its block, and the join re-raises the panic.
+        // Set by a thread that panics (a kernel's bug): the others take no
+        // more blocks and stop waiting for its block, and the join
+        // re-raises the panic.
         let abandoned = AtomicBool::new(false);
+        // (`eval` must not use the pool: a thread waiting in a kernel for
+        // rayon work could take a second `work` that waits for its block.)
         let work = || {
             let _panic = OnPanic(&abandoned);
-            loop {
+            while !abandoned.load(Ordering::Relaxed) {
                 // (A statement of its own: the lock is released at its end.)
                 let taken = lock(&next).next();
                 let Some((n, (cands, memory))) = taken else {
@@ -532,7 +547,13 @@ impl Sums<'_> {
         // Every block is computed; what the threads left is added here.
         let sums = sums.into_inner().unwrap_or_else(PoisonError::into_inner);
         for n in added.into_inner()..total {
-            sums.add(&lock(&ring[n % size]), &candidates[n * BLOCK..], &bodies);
+            let block = lock(&ring[n % size]);
+            assert_eq!(
+                block.computed,
+                n + 1,
+                "block {n} computed before its adding"
+            );
+            sums.add(&block, &candidates[n * BLOCK..], &bodies);
         }
     }
 }
@@ -564,7 +585,12 @@ impl Slots {
         // The last step's hits (kept for `for_each_hit`) go; what its
         // blocks did not use is released.
         let slots = self.wall_ring.iter_mut().chain(&mut self.pair_ring);
-        slots.for_each(|b| b.get_mut().unwrap_or_else(PoisonError::into_inner).trim());
+        slots.for_each(|b| {
+            // (A slot poisoned by a panic caught above: `try_lock` would
+            // call it busy forever.)
+            b.clear_poison();
+            b.get_mut().unwrap_or_else(PoisonError::into_inner).trim();
+        });
         force.fill(DVec3::ZERO);
         torque.fill(DVec3::ZERO);
         let (view, loads) = match damping {
@@ -698,7 +724,154 @@ impl Slots {
 
 #[cfg(test)]
 mod tests {
-    use super::trim;
+    use super::*;
+
+    /// A candidate's pseudo-random load (a hash of its index, in [−1, 1)).
+    fn load(c: u32, salt: u64) -> f64 {
+        let mut x = u64::from(c)
+            .wrapping_add(salt)
+            .wrapping_mul(0x9e37_79b9_7f4a_7c15);
+        x ^= x >> 29;
+        x = x.wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        x ^= x >> 32;
+        2.0 * ((x >> 11) as f64 / (1u64 << 53) as f64) - 1.0
+    }
+
+    /// Candidate `c`'s wrench and energy, if it touches (two in three do).
+    fn hit(c: u32, salt: u64) -> Option<(Wrench, f64)> {
+        let f = DVec3::new(load(c, salt), load(c, salt + 7), 1.0);
+        let p = DVec3::new(load(c, salt + 1), 0.5, load(c, salt + 2));
+        let wrench = Wrench::new(f, p, None, DVec3::ZERO, Some(DVec3::X));
+        (!c.is_multiple_of(3)).then_some((wrench, load(c, salt + 3)))
+    }
+
+    /// A candidate's two bodies (of 12).
+    fn bodies(c: &u32) -> (usize, Option<usize>) {
+        ((c % 7) as usize, Some((7 + c % 5) as usize))
+    }
+
+    /// The bits of [`ordered`] by a plain loop over the candidates in order.
+    fn serial(n: usize) -> Vec<u64> {
+        let (mut force, mut torque) = (vec![DVec3::ZERO; 12], vec![DVec3::ZERO; 12]);
+        let mut elastic = vec![];
+        for salt in [1, 2] {
+            force.fill(DVec3::ZERO);
+            torque.fill(DVec3::ZERO);
+            let mut e = 0.0;
+            for c in 0..n as u32 {
+                if let Some((w, energy)) = hit(c, salt) {
+                    let (a, b) = bodies(&c);
+                    let b = b.unwrap();
+                    force[a] += w.force;
+                    torque[a] += w.torque_a;
+                    force[b] -= w.force;
+                    torque[b] -= w.torque_b;
+                    e += energy;
+                }
+            }
+            elastic.push(e);
+        }
+        (force.iter().chain(&torque))
+            .flat_map(|v| v.to_array())
+            .chain(elastic)
+            .map(f64::to_bits)
+            .collect()
+    }
+
+    /// Forces, torques and energy of `n` synthetic candidates added by
+    /// [`Sums::in_order`] (`threads`, a ring of `size`, twice on one ring),
+    /// and how many times each candidate was computed.
+    fn ordered(n: usize, threads: usize, size: usize) -> (Vec<u64>, Vec<u32>) {
+        let candidates: Vec<u32> = (0..n as u32).collect();
+        let mut computed = vec![0u32; n];
+        let mut ring: Ring = vec![];
+        let (mut force, mut torque) = (vec![DVec3::ZERO; 12], vec![DVec3::ZERO; 12]);
+        let mut elastic = vec![];
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        for salt in [1, 2] {
+            force.fill(DVec3::ZERO);
+            torque.fill(DVec3::ZERO);
+            let mut sums = Sums {
+                force: &mut force,
+                torque: &mut torque,
+                damping: None,
+                stats: ContactStats::default(),
+                counters: KernelCounters::default(),
+            };
+            pool.install(|| {
+                sums.in_order(
+                    &candidates,
+                    &mut computed,
+                    &mut ring,
+                    size,
+                    |k, &c, times: &mut u32, _, _, block: &mut Block| {
+                        *times += 1;
+                        // Blocks of uneven cost, so that they finish out of order.
+                        let spin = (load(c / BLOCK as u32, salt) + 1.0) * 2e4;
+                        (0..spin as u32).for_each(|i| {
+                            std::hint::black_box(i);
+                        });
+                        if let Some((wrench, energy)) = hit(c, salt) {
+                            block.points.push(PointLoad {
+                                wrench,
+                                energy,
+                                #[cfg(feature = "mpi")]
+                                overlap: 0.0,
+                            });
+                            block.hits.push((candidate(k), point(block.points.len())));
+                        }
+                    },
+                    bodies,
+                );
+            });
+            elastic.push(sums.stats.elastic);
+        }
+        let bits = (force.iter().chain(&torque))
+            .flat_map(|v| v.to_array())
+            .chain(elastic)
+            .map(f64::to_bits)
+            .collect();
+        (bits, computed)
+    }
+
+    /// [`Sums::in_order`] adds every block once, in list order, with the
+    /// bits of a plain loop over the candidates, on 1 to 8 threads, rings
+    /// of 1 to 3 slots or the whole list, lists of 0 to 17 blocks (the
+    /// last one partial), reusing its ring for a second list. Run on a
+    /// watchdog: a hang (a wait that never ends) fails the test.
+    #[test]
+    fn blocks_are_added_once_each_in_list_order() {
+        let (done, wait) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            for blocks in [0, 1, 2, 3, 5, 17] {
+                let n = (blocks * BLOCK).saturating_sub(BLOCK / 3);
+                let reference = serial(n);
+                for threads in [1, 2, 3, 8] {
+                    for size in [1, 2, 3, usize::MAX] {
+                        let (bits, computed) = ordered(n, threads, size);
+                        assert!(
+                            computed.iter().all(|&t| t == 2),
+                            "{blocks} blocks, {threads} threads, ring {size}: each candidate computed once a list"
+                        );
+                        assert!(
+                            bits == reference,
+                            "{blocks} blocks, {threads} threads, ring {size}: the bits of one thread"
+                        );
+                    }
+                }
+            }
+            done.send(()).unwrap();
+        });
+        // A few seconds of work at most; a minute means a thread waits forever.
+        match wait.recv_timeout(std::time::Duration::from_secs(60)) {
+            Ok(()) => {}
+            Err(std::sync::mpsc::RecvTimeoutError::Timeout) => panic!("in_order hangs"),
+            Err(e) => panic!("the test's thread failed: {e}"),
+        }
+    }
 
     /// The hysteresis of [`trim`]: a buffer whose length moves by a few
     /// per step around 1000 keeps its allocation (the steady state makes
