@@ -83,17 +83,17 @@ struct PointLoad {
 pub(super) const BLOCK: usize = 256;
 
 /// Blocks in flight: block `n` is computed into slot `n % RING` once block
-/// `n − RING` has been added. 16 blocks (4096 candidates, ~0.25 MB in a
-/// settled bed) let a thread run ~8 blocks ahead of the adding on two
-/// threads, far more than the ~30× spread of the blocks' costs needs. The
-/// bits do not depend on it (nor on [`BLOCK`]).
+/// `n − RING` has been added. 16 blocks: 4096 candidates, ~0.25 MB in a
+/// settled bed, as the two windows of 8 before them held; on two threads
+/// no thread waited for a slot in any step of `bed_10k` or of the AR-10
+/// bed of 10⁵ (counted in a temporary build). The bits do not depend on
+/// it (nor on [`BLOCK`]).
 const RING: usize = 16;
 
 /// The touching candidates of one block of a candidate list, computed on one
 /// thread: per hit (touching candidate) its index in the block and the
 /// end of its points, all points in candidate order, the points' damping
-/// loads
-/// (empty without damping), and the block's share of the statistics
+/// loads (empty without damping), and the block's share of the statistics
 /// (touching count and largest overlap; the elastic energy is summed over
 /// the blocks in order afterwards), the kernels' counts, and which block
 /// of the list it holds. A slot serves many blocks of a step; its buffers
