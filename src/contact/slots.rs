@@ -106,7 +106,8 @@ struct Block {
     damp: Vec<Wrench>,
     stats: ContactStats,
     counters: KernelCounters,
-    /// `n + 1` once block `n` of the list is computed here (0: none yet).
+    /// `n + 1` once block `n` of the list is computed here (0: none yet;
+    /// set by [`compute_block`], reset per list by [`Sums::in_order`]).
     computed: usize,
     /// The largest lengths of `hits`, `points`, `damp` in this step's
     /// blocks (what [`Block::trim`] keeps).
@@ -262,7 +263,6 @@ impl Block {
         self.damp.clear();
         self.stats = ContactStats::default();
         self.counters = KernelCounters::default();
-        self.computed = 0;
     }
 
     /// At the end of a step: release what the step's blocks did not use.
@@ -726,7 +726,9 @@ impl Slots {
 mod tests {
     use super::*;
 
-    /// A candidate's pseudo-random load (a hash of its index, in [−1, 1)).
+    /// A candidate's pseudo-random load (a hash of its index, in [−1, 1);
+    /// not a stream like `fibre_fibre/uniform.rs`: the blocks are computed
+    /// in any order, and each candidate's load must not depend on it).
     fn load(c: u32, salt: u64) -> f64 {
         let mut x = u64::from(c)
             .wrapping_add(salt)
