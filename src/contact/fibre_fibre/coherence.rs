@@ -119,6 +119,12 @@ const APART_ANY_REGIME: u8 = APART | 1;
 /// current pose): a checkpoint leaves it out, since the recomputation at
 /// the checkpoint's states makes it again.
 const FRESH: u8 = 0x80;
+/// Added to a touching memory's kind 1–7 (kinds 9–15): the pair stays in
+/// the end-involved regime at full weight for longer than the memory lasts
+/// (`room_in_regime`, fibre_fibre/mod.rs), so its dispatch may go straight
+/// to the kernel. Rim–rim (8) has no such twin (the four bits are full) and
+/// always takes the whole dispatch. Only work changes, never an answer.
+const IN_REGIME: u8 = 8;
 
 /// Lengths in a pair's memory are counts of `(r_A + r_B)·2⁻²⁰` (9.5 nm for
 /// two 5 mm radii; at most 65 535 of them, 6 % of the radii).
@@ -186,30 +192,55 @@ impl PairMemory {
         match self.code {
             0 => Recall::Nothing,
             c if c & APART != 0 => Recall::Apart,
-            c => Recall::Touching {
-                kernel: Kernel(c & (KIND | END_A | END_B)),
-                most: f64::from(self.cap - self.left) * unit,
-            },
+            c => {
+                let kind = c & KIND;
+                let kind = if kind > RIM_RIM {
+                    kind - IN_REGIME
+                } else {
+                    kind
+                };
+                Recall::Touching {
+                    kernel: Kernel(kind | c & (END_A | END_B)),
+                    most: f64::from(self.cap - self.left) * unit,
+                }
+            }
         }
     }
 
     /// Touching at depth `depth` by `kernel`'s minimum, for a motion of
     /// `room` (m), or less where the cap would not fit its 16 bits;
-    /// nothing when that leaves under one unit.
+    /// nothing when that leaves under one unit. Kept in its regime (see
+    /// [`IN_REGIME`]) when `in_regime`, how far the pair may move while its
+    /// dispatch sends it to the kernel at full weight, covers what is left.
     #[inline]
-    pub(super) fn touching(kernel: Kernel, depth: f64, room: f64, unit: f64) -> Self {
+    pub(super) fn touching(
+        kernel: Kernel,
+        depth: f64,
+        room: f64,
+        unit: f64,
+        in_regime: f64,
+    ) -> Self {
         let depth = (depth / unit).ceil();
         let left = (room / unit).min(f64::from(u16::MAX) - depth).floor();
         let cap = depth + left;
         if left >= 1.0 && cap <= f64::from(u16::MAX) {
+            let kept = kernel.0 & KIND < RIM_RIM && in_regime >= left * unit;
+            let code = if kept { kernel.0 + IN_REGIME } else { kernel.0 };
             PairMemory {
-                code: kernel.0 | FRESH,
+                code: code | FRESH,
                 left: left as u16,
                 cap: cap as u16,
             }
         } else {
             PairMemory::default()
         }
+    }
+
+    /// Whether it is a touching memory that the dispatch may hand straight
+    /// to its kernel (after [`PairMemory::spend`]; see [`IN_REGIME`]).
+    #[inline(always)]
+    pub(super) fn in_regime(&self) -> bool {
+        self.code & KIND > RIM_RIM
     }
 
     /// Apart by more than `gap` (m) in the end-involved regime.
@@ -279,16 +310,13 @@ impl PairMemory {
     }
 
     /// [`PairMemory::to_raw`] back: `None` unless it is a valid touching
-    /// memory (a kernel 1–8 with its ends, no other bit, `left ≤ cap`).
+    /// memory (a kernel 1–8, or 1–7 kept in its regime, with its ends, no
+    /// other bit, `left ≤ cap`).
     pub fn from_raw([code, left, cap]: [u16; 3]) -> Option<Self> {
         let code = u8::try_from(code).ok()?;
         let kind = code & KIND;
         let known = KIND | END_A | END_B | FRESH;
-        ((1..=RIM_RIM).contains(&kind) && code & !known == 0 && left <= cap).then_some(PairMemory {
-            code,
-            left,
-            cap,
-        })
+        (kind != 0 && code & !known == 0 && left <= cap).then_some(PairMemory { code, left, cap })
     }
 }
 
@@ -303,7 +331,7 @@ mod tests {
     fn a_memory_spends_no_more_than_its_room() {
         let unit = 1e-8;
         let k = Kernel::rim_side(false, 1.0);
-        let mut m = PairMemory::touching(k, 1.5e-5, 2.05e-7, unit);
+        let mut m = PairMemory::touching(k, 1.5e-5, 2.05e-7, unit, 0.0);
         assert_eq!({ m.left }, 20);
         let mut spent = 0.0;
         for step in 0.. {
@@ -323,15 +351,15 @@ mod tests {
             }
         }
         assert_eq!(
-            PairMemory::touching(k, 1e-5, 0.5 * unit, unit),
+            PairMemory::touching(k, 1e-5, 0.5 * unit, unit, 0.0),
             PairMemory::default()
         );
         assert_eq!(
-            PairMemory::touching(k, 1.0, 1e-6, unit),
+            PairMemory::touching(k, 1.0, 1e-6, unit, 0.0),
             PairMemory::default()
         );
         // A room without bound takes what the cap leaves.
-        let wide = PairMemory::touching(k, 1e-4, f64::INFINITY, unit);
+        let wide = PairMemory::touching(k, 1e-4, f64::INFINITY, unit, 0.0);
         assert_eq!((wide.left, wide.cap), (u16::MAX - 10_000, u16::MAX));
         assert_eq!(std::mem::size_of::<PairMemory>(), 5);
         let mut still = PairMemory::apart(1e-6, unit);
@@ -345,13 +373,50 @@ mod tests {
     /// The raw round trip keeps touching memories and refuses the rest.
     #[test]
     fn raw_fields_round_trip() {
-        let m = PairMemory::touching(Kernel::rim_rim(-1.0, 1.0), 1e-5, 1e-6, 1e-8);
+        let m = PairMemory::touching(Kernel::rim_rim(-1.0, 1.0), 1e-5, 1e-6, 1e-8, 0.0);
         assert_eq!(PairMemory::from_raw(m.to_raw()), Some(m));
+        let kept = PairMemory::touching(Kernel::rim_side(true, -1.0), 1e-5, 1e-6, 1e-8, 1e-6);
+        assert!(kept.in_regime());
+        assert_eq!(PairMemory::from_raw(kept.to_raw()), Some(kept));
         assert_eq!(
             PairMemory::from_raw(PairMemory::apart(1e-6, 1e-8).to_raw()),
             None
         );
-        assert_eq!(PairMemory::from_raw([9, 0, 0]), None);
+        assert_eq!(PairMemory::from_raw([0, 0, 0]), None);
+        assert_eq!(PairMemory::from_raw([0x100 | 2, 0, 0]), None);
         assert_eq!(PairMemory::from_raw([2, 5, 4]), None);
+    }
+
+    /// Reference: the definition of [`IN_REGIME`]. A memory is kept in its
+    /// regime exactly when that room covers its own, never for rim–rim, and
+    /// recalls the same kernel, depth cap and room either way.
+    #[test]
+    fn a_memory_in_its_regime_recalls_the_same() {
+        let unit = 1e-8;
+        let kernels = [
+            Kernel::face_side(false, 1.0),
+            Kernel::rim_side(false, -1.0),
+            Kernel::face_side(true, 1.0),
+            Kernel::rim_side(true, -1.0),
+            Kernel::face_face(-1.0, 1.0),
+            Kernel::rim_face(false, 1.0, -1.0),
+            Kernel::rim_face(true, -1.0, -1.0),
+            Kernel::rim_rim(-1.0, -1.0),
+        ];
+        for k in kernels {
+            let plain = PairMemory::touching(k, 1e-5, 2e-7, unit, 1.9e-7);
+            let kept = PairMemory::touching(k, 1e-5, 2e-7, unit, 2e-7);
+            assert!(!plain.in_regime());
+            assert_eq!(kept.in_regime(), k != Kernel::rim_rim(-1.0, -1.0), "{k:?}");
+            assert_eq!((plain.left, plain.cap), (kept.left, kept.cap));
+            for mut m in [plain, kept] {
+                m.spend(1e-8, unit);
+                let Recall::Touching { kernel, most } = m.recall(unit) else {
+                    panic!("{k:?}: no longer touching")
+                };
+                assert_eq!(kernel, k);
+                assert_eq!(most, f64::from(m.cap - m.left) * unit);
+            }
+        }
     }
 }

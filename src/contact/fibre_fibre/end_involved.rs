@@ -19,7 +19,7 @@ use super::side_side::closest_point_contact;
 use super::support::{
     dome_sag, domed_projection_overlap as pov, domed_projection_supports, sig, support,
 };
-use super::{room_beyond_parallel, Cand};
+use super::{room_beyond_parallel, room_in_regime, Cand};
 use crate::contact::{ContactPoint, FibreGeom, KernelCounters};
 use glam::DVec3;
 
@@ -538,7 +538,8 @@ pub(super) fn penetration_smoothed(
                 (memory, scan.winner, scan.certified, scan.descended)
             {
                 let margin = LOWER_ROUNDING * (a.radius + b.radius);
-                *m = PairMemory::touching(kernel, scan.best, scan.room() - margin, unit);
+                let room = scan.room() - margin;
+                *m = PairMemory::touching(kernel, scan.best, room, unit, room_in_regime(a, b));
             }
         }
         Verdict::Unsure => {
@@ -547,6 +548,34 @@ pub(super) fn penetration_smoothed(
                 blend.push(out, a, weight, weight_grad);
             }
         }
+    }
+}
+
+/// The answer of a memory kept in its regime ([`PairMemory::in_regime`]),
+/// before the dispatch: the dispatch would reach [`penetration_smoothed`]
+/// at full weight and answer the same from the memory, once its first test
+/// finds the capsules overlapping, which a true overlap deeper than that
+/// test's rounding ensures. `false` (nothing done: the dispatch runs)
+/// otherwise. (Out of line: inlined into the dispatch, it cost ~40
+/// instructions a fibre-step more.)
+#[inline(never)]
+pub(super) fn remembered_in_regime(
+    a: &FibreGeom,
+    b: &FibreGeom,
+    memory: &PairMemory,
+    out: &mut Vec<ContactPoint>,
+    counters: &mut KernelCounters,
+) -> bool {
+    let Recall::Touching { kernel, most } = memory.recall(memory_unit(a, b)) else {
+        return false;
+    };
+    match remembered(a, b, kernel, most) {
+        Some(c) if c.depth > LOWER_ROUNDING * (a.radius + b.radius) => {
+            counters.remembered += 1;
+            push_weighted(out, c, 1.0, DVec3::ZERO);
+            true
+        }
+        _ => false,
     }
 }
 

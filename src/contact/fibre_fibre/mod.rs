@@ -44,9 +44,9 @@ pub use segment::segment_closest_params;
 pub use support::{dome_sag, domed_projection_overlap, projection_overlap, END_FACE_DOME_SIN};
 
 use super::{ContactPoint, FibreGeom, KernelCounters};
-use end_involved::penetration_smoothed;
+use end_involved::{penetration_smoothed, remembered_in_regime};
 use glam::DVec3;
-use segment::axial_overlap;
+use segment::{axial_overlap, room_off_interior};
 use side_side::{side_side, SideSide};
 
 /// Below this |sin| of the inter-axis angle a pair counts as parallel for the
@@ -79,6 +79,15 @@ pub const COAXIAL_SIN: f64 = 0.02;
 pub(super) fn room_beyond_parallel(a: &FibreGeom, b: &FibreGeom) -> f64 {
     let sin = a.axis.cross(b.axis).length();
     ((sin - PARALLEL_SIN) * a.half_length.min(b.half_length)).max(0.0)
+}
+
+/// How far `a` and `b` may move (the sum of their motion bounds) while
+/// [`contact_fibre_fibre_remembering`] sends them to regime 3 at full
+/// weight: axes out of the parallel band (so neither regime 1 nor the
+/// parallel blend) and the segments' closest points off the interior (so
+/// not regime 2); 0 when it does not now.
+pub(super) fn room_in_regime(a: &FibreGeom, b: &FibreGeom) -> f64 {
+    room_beyond_parallel(a, b).min(room_off_interior(a, b))
 }
 
 /// A candidate contact with A's force normal.
@@ -156,6 +165,9 @@ pub fn contact_fibre_fibre_remembering(
             m.spend(motion, memory_unit(a, b));
             if m.passed_over() {
                 counters.passed_over += 1;
+                return;
+            }
+            if m.in_regime() && remembered_in_regime(a, b, m, out, counters) {
                 return;
             }
             Some(m)
