@@ -4,7 +4,8 @@
 #
 #   scripts/bed_scaling.sh OUT_DIR      # ~15 min on an idle 2-core machine
 #
-# The beds: the shipped bed_1k, bed_10k and bed_ar10 (10^3, AR 10), and
+# The beds: the shipped bed_1k, bed_1k_column (10^3 fibres in a 0.1 x 0.1 m
+# column, as deep as bed_10k), bed_10k and bed_ar10 (10^3, AR 10), and
 # copies of them side by side made by `fibresim replicate` (10^5 and 10^6
 # fibres from bed_10k; 10^4 to 10^6 from bed_ar10). Each is timed by the bed
 # bench (medians of --repeats runs; its memory counts come with it), with
@@ -30,6 +31,7 @@ bench() { # raw-csv scene steps repeats
 }
 
 bench ar3 scenarios/bed_1k.toml 1000 5
+bench ar3_column scenarios/bed_1k_column.toml 1000 5
 bench ar3 scenarios/bed_10k.toml 100 5
 bench ar3 "$(bed ar3_100k bed_10k 5,2,1)" 10 3
 bench ar3 "$(bed ar3_1m bed_10k 10,10,1)" 2 3
@@ -49,6 +51,13 @@ for ar in ("ar3", "ar10"):
         name = f"fibresim AR {ar[2:]}, {t} thread{'s' if t > 1 else ''}"
         rows.append((name, r["fibres"], t, r["fibre_steps_per_s"], r["ns_per_fibre_step"],
                      r["parallel_efficiency"], r["touching_per_fibre"], r["heap_bytes_per_fibre"]))
+# The 10^3 column, as deep as the 10^4 bed (the shipped 10^3 bed is a layer
+# two or three fibres deep).
+for r in csv.DictReader(open(f"{out}/raw_ar3_column.csv")):
+    t = int(r["threads"])
+    name = f"fibresim AR 3, 10^3 column, {t} thread{'s' if t > 1 else ''}"
+    rows.append((name, r["fibres"], t, r["fibre_steps_per_s"], r["ns_per_fibre_step"],
+                 r["parallel_efficiency"], r["touching_per_fibre"], r["heap_bytes_per_fibre"]))
 # Issue 10: the peers on a random settled bed of the AR-3 fibres, this machine.
 for name, t, rate in (("LIGGGHTS 3.8 multisphere", 1, 1.23e6), ("LIGGGHTS 3.8 multisphere", 2, 2.23e6),
                       ("LAMMPS rigid/small", 1, 1.49e6), ("LAMMPS rigid/small", 2, 2.57e6)):

@@ -5,7 +5,8 @@
 //! run on the same pair at the same pose: at every step of a settled bed
 //! stepped at the settling δt (so that its contacts slide, open and
 //! close), every remembered contact has the scan's points to within the
-//! tolerance the scan itself allows between two answers for one minimum.
+//! tolerance the scan itself allows between two answers for one minimum,
+//! and a memory kept in its regime answers the whole dispatch's bits.
 
 mod common;
 use fibresim::contact::fibre_fibre::segment_closest_params;
@@ -38,6 +39,18 @@ const FALLBACK_NORMAL_TOL: f64 = 1e-5;
 /// A face's point moves with the normal by the dome's radius
 /// (`r/END_FACE_DOME_SIN` = 5 m here) times the normal's change.
 const DOME_RADIUS: f64 = 5.0;
+
+/// The same memory without its mark of a pair kept in its regime
+/// (`coherence.rs`: a touching memory's kinds 9–15 are the kernels 1–7
+/// marked; the apart ones set bit 0x40): what the whole dispatch answers from.
+fn unmarked(m: PairMemory) -> PairMemory {
+    let [code, left, cap] = m.to_raw();
+    if code & 0x40 == 0 && code & 0x0f > 8 {
+        PairMemory::from_raw([code - 8, left, cap]).expect("a touching memory")
+    } else {
+        m
+    }
+}
 
 /// Whether the memory's contacts `m` are the scan's `s`, the scan having
 /// fallen back to the iterative search or not.
@@ -81,7 +94,7 @@ fn a_remembered_contact_is_the_scanned_contact() {
     let mut last: Vec<FibreGeom> = vec![FibreGeom::default(); n];
     let (mut remembered, mut scanned, mut touching_memories, mut fell_back, mut passed_over) =
         (0u64, 0u64, 0u64, 0u64, 0u64);
-    let (mut worst, mut boxes, mut pairs) = ([0.0f64; 3], vec![], vec![]);
+    let (mut worst, mut boxes, mut pairs, mut kept) = ([0.0f64; 3], vec![], vec![], 0u64);
     for _ in 0..scene.sim.steps() {
         w.step::<Pcdm>().expect("the bed stays stable");
         let g: Vec<FibreGeom> = (0..n)
@@ -101,6 +114,17 @@ fn a_remembered_contact_is_the_scanned_contact() {
             let mut k = KernelCounters::default();
             let spent = motion[i as usize] + motion[j as usize];
             contact_fibre_fibre_remembering(a, b, &mut m, &mut k, Some((memory, spent)));
+            if unmarked(before) != before {
+                // Kept in its regime: the whole dispatch from the same
+                // memory unmarked gives the same bits, counts and memory.
+                kept += 1;
+                let mut whole = unmarked(before);
+                let (mut mw, mut kw) = (vec![], KernelCounters::default());
+                contact_fibre_fibre_remembering(a, b, &mut mw, &mut kw, Some((&mut whole, spent)));
+                assert_eq!(m, mw, "pair ({i}, {j}) kept at step {}", w.step);
+                assert_eq!(format!("{k:?}"), format!("{kw:?}"), "pair ({i}, {j})");
+                assert_eq!(unmarked(*memory), unmarked(whole), "pair ({i}, {j})");
+            }
             let mut ks = KernelCounters::default();
             contact_fibre_fibre(a, b, &mut s, &mut ks);
             if k.remembered == 1 {
@@ -129,9 +153,10 @@ fn a_remembered_contact_is_the_scanned_contact() {
         last = g;
     }
     println!(
-        "{remembered} remembered ({touching_memories} touching; the scan fell back on {fell_back}), {scanned} scanned, {passed_over} passed over (apart in every regime); worst differences where it did not: depth {:e} m, normal {:e}, point {:e} m",
+        "{remembered} remembered ({touching_memories} touching, {kept} kept in their regime; the scan fell back on {fell_back}), {scanned} scanned, {passed_over} passed over (apart in every regime); worst differences where it did not: depth {:e} m, normal {:e}, point {:e} m",
         worst[0], worst[1], worst[2]
     );
+    assert!(kept > 300_000, "{kept} kept in their regime");
     // The memories do the work even at 20× the bed's step: 90 % of the
     // end-involved answers, most of them touching.
     assert!(remembered > 5 * scanned, "{remembered} vs {scanned}");

@@ -138,7 +138,8 @@ pub fn memory_unit(a: &FibreGeom, b: &FibreGeom) -> f64 {
 
 /// What a fibre pair remembers between steps (5 bytes, packed: one per
 /// candidate pair; all zero: nothing, the next step scans): the winner's
-/// [`Kernel`] or [`APART`] (and [`FRESH`]), the motion `left` (in
+/// [`Kernel`] (its kinds 1–7 as 9–15 when kept in the regime,
+/// [`IN_REGIME`]) or [`APART`] (and [`FRESH`]), the motion `left` (in
 /// [`memory_unit`]s, rounded down) that the bodies may still make, and for
 /// a touching pair `cap`, the largest depth its minimum may have by then
 /// (rounded up): `δ* + Δ` is at most `cap − left`.
@@ -409,7 +410,11 @@ mod tests {
             assert!(!plain.in_regime());
             assert_eq!(kept.in_regime(), k != Kernel::rim_rim(-1.0, -1.0), "{k:?}");
             assert_eq!((plain.left, plain.cap), (kept.left, kept.cap));
-            for mut m in [plain, kept] {
+            // The memory's own room is what the cap leaves (55 535 units
+            // here), not the scan's (unbounded).
+            let capped = PairMemory::touching(k, 1e-4, f64::INFINITY, unit, 5.6e-4);
+            assert_eq!(capped.in_regime(), kept.in_regime(), "{k:?}");
+            for mut m in [plain, kept, capped] {
                 m.spend(1e-8, unit);
                 let Recall::Touching { kernel, most } = m.recall(unit) else {
                     panic!("{k:?}: no longer touching")
