@@ -45,19 +45,14 @@ import csv, sys
 out = sys.argv[1]
 rows = [("series", "fibres", "threads", "fibre_steps_per_s", "ns_per_fibre_step",
          "parallel_efficiency", "touching_per_fibre", "heap_bytes_per_fibre")]
-for ar in ("ar3", "ar10"):
-    for r in csv.DictReader(open(f"{out}/raw_{ar}.csv")):
+# The 10^3 column is as deep as the 10^4 bed (the shipped 10^3 bed is a
+# layer two or three fibres deep).
+for raw, label in (("ar3", "AR 3"), ("ar10", "AR 10"), ("ar3_column", "AR 3, 10^3 column")):
+    for r in csv.DictReader(open(f"{out}/raw_{raw}.csv")):
         t = int(r["threads"])
-        name = f"fibresim AR {ar[2:]}, {t} thread{'s' if t > 1 else ''}"
+        name = f"fibresim {label}, {t} thread{'s' if t > 1 else ''}"
         rows.append((name, r["fibres"], t, r["fibre_steps_per_s"], r["ns_per_fibre_step"],
                      r["parallel_efficiency"], r["touching_per_fibre"], r["heap_bytes_per_fibre"]))
-# The 10^3 column, as deep as the 10^4 bed (the shipped 10^3 bed is a layer
-# two or three fibres deep).
-for r in csv.DictReader(open(f"{out}/raw_ar3_column.csv")):
-    t = int(r["threads"])
-    name = f"fibresim AR 3, 10^3 column, {t} thread{'s' if t > 1 else ''}"
-    rows.append((name, r["fibres"], t, r["fibre_steps_per_s"], r["ns_per_fibre_step"],
-                 r["parallel_efficiency"], r["touching_per_fibre"], r["heap_bytes_per_fibre"]))
 # Issue 10: the peers on a random settled bed of the AR-3 fibres, this machine.
 for name, t, rate in (("LIGGGHTS 3.8 multisphere", 1, 1.23e6), ("LIGGGHTS 3.8 multisphere", 2, 2.23e6),
                       ("LAMMPS rigid/small", 1, 1.49e6), ("LAMMPS rigid/small", 2, 2.57e6)):

@@ -195,7 +195,7 @@ impl PairMemory {
             c if c & APART != 0 => Recall::Apart,
             c => {
                 let kind = c & KIND;
-                let kind = if kind > RIM_RIM {
+                let kind = if self.in_regime() {
                     kind - IN_REGIME
                 } else {
                     kind

@@ -37,8 +37,9 @@ pub fn segment_closest_params(a: &FibreGeom, b: &FibreGeom) -> (f64, f64) {
 /// m/h`) with their segments' closest points off the interior (`|s| = h_A`
 /// or `|t| = h_B` in [`segment_closest_params`]); 0 when they are interior
 /// or within the parallel band (`|a×b| <` [`PARALLEL_SIN`], where
-/// `segment_closest_params` may take its parallel branch). A's line meets the plane through B's line that holds `m =
-/// a×b/σ`, `σ = |a×b|`, at the lines' closest point `s*`, so `|s*| > h_A`
+/// `segment_closest_params` may take its parallel branch). A's line meets
+/// the plane through B's line that holds `m = a×b/σ`, `σ = |a×b|`, at the
+/// lines' closest point `s*`, so `|s*| > h_A`
 /// exactly when A's ends `e` lie on one side of that plane, at signed
 /// distances `ν·(e − q)`, `ν = b×m`, `q` any point of B's segment (the one
 /// nearest `e`). A motion `Δ` moves `e` and `q` by at most `Δ` together and
