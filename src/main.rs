@@ -5,7 +5,10 @@ use clap::Parser;
 
 fn main() {
     let cli = fibresim::cli::Cli::parse();
-    if let Err(e) = fibresim::cli::execute(cli) {
+    let result = fibresim::cli::execute(cli);
+    #[cfg(feature = "replay")]
+    fibresim::contact::replay::finish();
+    if let Err(e) = result {
         eprintln!("error: {e}");
         std::process::exit(e.exit_code());
     }

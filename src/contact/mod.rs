@@ -23,6 +23,8 @@ pub mod hertz;
 mod laws;
 pub(crate) mod memory;
 pub(crate) mod overlap_check;
+#[cfg(feature = "replay")]
+pub mod replay;
 pub(crate) mod slots;
 pub mod stage;
 pub mod walls;

@@ -394,17 +394,33 @@ fn pair_contacts(
     stats: &mut ContactStats,
     mut damping: Option<&mut DampingPass>,
 ) {
+    #[cfg(feature = "replay")]
+    super::replay::computation();
     for (&(a, b), memory) in list.pairs.iter().zip(&mut list.memory) {
         let (a, b) = (a as usize, b as usize);
         let (ga, gb) = (&geoms[a], &geoms[b]);
         points.clear();
-        contacts_remembering(
-            Collider::Fibre(ga),
-            Collider::Fibre(gb),
-            points,
-            counters,
-            Some((memory, f64::from(motion[a]) + f64::from(motion[b]))),
-        );
+        // (A measuring build may replay this call: `contact/replay.rs`.)
+        #[cfg(feature = "replay")]
+        let replayed = super::replay::replayed(points, memory);
+        #[cfg(not(feature = "replay"))]
+        let replayed = false;
+        if !replayed {
+            #[cfg(feature = "replay")]
+            let (kept_before, counted) = (memory.in_regime(), *counters);
+            contacts_remembering(
+                Collider::Fibre(ga),
+                Collider::Fibre(gb),
+                points,
+                counters,
+                Some((memory, f64::from(motion[a]) + f64::from(motion[b]))),
+            );
+            #[cfg(feature = "replay")]
+            if super::replay::recording() {
+                let class = super::replay::classify(kept_before, &counted, counters);
+                super::replay::record(class, points, memory);
+            }
+        }
         if points.is_empty() {
             continue;
         }

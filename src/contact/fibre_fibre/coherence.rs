@@ -240,7 +240,7 @@ impl PairMemory {
     /// Whether it is a touching memory that the dispatch may hand straight
     /// to its kernel (after [`PairMemory::spend`]; see [`IN_REGIME`]).
     #[inline(always)]
-    pub(super) fn in_regime(&self) -> bool {
+    pub(crate) fn in_regime(&self) -> bool {
         self.code & KIND > RIM_RIM
     }
 
@@ -308,6 +308,17 @@ impl PairMemory {
     #[inline]
     pub fn to_raw(self) -> [u16; 3] {
         [u16::from(self.code), self.left, self.cap]
+    }
+
+    /// [`PairMemory::to_raw`] back, whatever the code (`contact/replay.rs`
+    /// restores every memory a recorded call left).
+    #[cfg(feature = "replay")]
+    pub fn from_raw_any([code, left, cap]: [u16; 3]) -> Self {
+        PairMemory {
+            code: code as u8,
+            left,
+            cap,
+        }
     }
 
     /// [`PairMemory::to_raw`] back: `None` unless it is a valid touching
