@@ -11,17 +11,23 @@ const BIN: &str = env!("CARGO_BIN_EXE_fibresim");
 
 /// `bed_1k` for 30 steps on one thread, with `FIBRESIM_REPLAY=spec`.
 fn run(spec: &str, out: &Path) -> std::process::Output {
+    run_to("3e-5", spec, out)
+}
+
+/// `bed_1k` to `t_end` on one thread, with `FIBRESIM_REPLAY=spec`.
+fn run_to(t_end: &str, spec: &str, out: &Path) -> std::process::Output {
+    let args = [
+        "run",
+        "scenarios/bed_1k.toml",
+        "--t-end",
+        t_end,
+        "--threads",
+        "1",
+        "-q",
+    ];
     Command::new(BIN)
-        .args([
-            "run",
-            "scenarios/bed_1k.toml",
-            "--t-end",
-            "3e-5",
-            "--threads",
-            "1",
-            "-q",
-            "--out",
-        ])
+        .args(args)
+        .arg("--out")
         .arg(out)
         .env("FIBRESIM_REPLAY", spec)
         .current_dir(env!("CARGO_MANIFEST_DIR"))
@@ -83,10 +89,27 @@ fn a_replayed_run_is_the_recorded_run() {
     }
 }
 
-/// A malformed request is refused with exit code 2, naming what is wrong.
+/// A malformed request is refused with exit code 2, naming what is wrong;
+/// so is a replay of another run than the one recorded (here, longer).
 #[test]
 fn a_bad_request_is_refused() {
     let dir = tempfile::tempdir().unwrap();
+    let rec = dir.path().join("rec");
+    let record = run(
+        &format!("record:{}", rec.display()),
+        &dir.path().join("record"),
+    );
+    assert!(record.status.success(), "{record:?}");
+    let replay = format!("replay:{}:kept", rec.display());
+    for (t_end, says) in [
+        ("4e-5", "more calls than were recorded"),
+        ("2e-5", "recorded calls"),
+    ] {
+        let out = run_to(t_end, &replay, &dir.path().join(t_end));
+        assert_eq!(out.status.code(), Some(2), "{t_end}: {out:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(says), "{t_end}: {err}");
+    }
     for (spec, says) in [
         ("replay:/nonexistent/rec:kept", "cannot read"),
         ("replay:x:fast", "unknown class"),

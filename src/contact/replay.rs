@@ -89,11 +89,15 @@ pub fn classify(kept_before: bool, before: &KernelCounters, after: &KernelCounte
     }
 }
 
+/// A request this tool cannot serve: the message, exit code 2.
+fn refuse(what: &str) -> ! {
+    let spec = std::env::var("FIBRESIM_REPLAY").unwrap_or_default();
+    eprintln!("error: FIBRESIM_REPLAY={spec}: {what}");
+    std::process::exit(2)
+}
+
 fn open(spec: &str) -> Mode {
-    let fail = |what: String| -> ! {
-        eprintln!("error: FIBRESIM_REPLAY={spec}: {what}");
-        std::process::exit(2)
-    };
+    let fail = |what: String| -> ! { refuse(&what) };
     let create = |path: String| {
         std::fs::File::create(&path)
             .map(std::io::BufWriter::new)
@@ -127,17 +131,16 @@ fn open(spec: &str) -> Mode {
     };
     let calls = read(format!("{path}.calls"));
     let raw = read(format!("{path}.points"));
-    let f = |c: &[u8]| f64::from_le_bytes(c.try_into().expect("8 bytes"));
     let points = raw
         .chunks_exact(8 * POINT_F64S)
         .map(|p| {
-            let v: Vec<f64> = p.chunks_exact(8).map(f).collect();
+            let v = |k: usize| f64::from_le_bytes(p[8 * k..8 * k + 8].try_into().expect("8 bytes"));
             ContactPoint {
-                point: DVec3::new(v[0], v[1], v[2]),
-                normal: DVec3::new(v[3], v[4], v[5]),
-                overlap: v[6],
-                weight: v[7],
-                weight_grad: DVec3::new(v[8], v[9], v[10]),
+                point: DVec3::new(v(0), v(1), v(2)),
+                normal: DVec3::new(v(3), v(4), v(5)),
+                overlap: v(6),
+                weight: v(7),
+                weight_grad: DVec3::new(v(8), v(9), v(10)),
             }
         })
         .collect();
@@ -176,11 +179,16 @@ pub fn replayed(out: &mut Vec<ContactPoint>, memory: &mut PairMemory) -> bool {
         else {
             return false;
         };
-        let c = &calls[*next_call * CALL_BYTES..(*next_call + 1) * CALL_BYTES];
+        let Some(c) = calls.get(*next_call * CALL_BYTES..(*next_call + 1) * CALL_BYTES) else {
+            refuse("the run asks for more calls than were recorded: replay the recorded scene and flags")
+        };
         let count = usize::from(c[1]);
         let replay = classes[usize::from(c[0])];
         if replay {
-            out.extend_from_slice(&points[*next_point..*next_point + count]);
+            let Some(recorded) = points.get(*next_point..*next_point + count) else {
+                refuse("the recorded points ran out: a truncated recording?")
+            };
+            out.extend_from_slice(recorded);
             let raw = |k: usize| u16::from_le_bytes([c[k], c[k + 1]]);
             *memory = PairMemory::from_raw_any([raw(2), raw(4), raw(6)]);
         }
@@ -202,11 +210,14 @@ pub fn record(class: Class, points: &[ContactPoint], memory: &PairMemory) {
         {
             *recorded += 1;
             let [code, left, cap] = memory.to_raw();
-            let mut c = [class as u8, points.len() as u8, 0, 0, 0, 0, 0, 0];
+            let count = u8::try_from(points.len()).expect("a pair has a few points");
+            let mut c = [class as u8, count, 0, 0, 0, 0, 0, 0];
             c[2..4].copy_from_slice(&code.to_le_bytes());
             c[4..6].copy_from_slice(&left.to_le_bytes());
             c[6..8].copy_from_slice(&cap.to_le_bytes());
-            calls.write_all(&c).expect("write the record");
+            calls
+                .write_all(&c)
+                .unwrap_or_else(|e| refuse(&e.to_string()));
             for p in points {
                 let v = [
                     p.point.x,
@@ -222,7 +233,8 @@ pub fn record(class: Class, points: &[ContactPoint], memory: &PairMemory) {
                     p.weight_grad.z,
                 ];
                 for x in v {
-                    out.write_all(&x.to_le_bytes()).expect("write the record");
+                    out.write_all(&x.to_le_bytes())
+                        .unwrap_or_else(|e| refuse(&e.to_string()));
                 }
             }
         }
@@ -240,7 +252,7 @@ pub fn computation() {
         {
             computations
                 .write_all(&recorded.to_le_bytes())
-                .expect("write the record");
+                .unwrap_or_else(|e| refuse(&e.to_string()));
         }
     })
 }
@@ -251,19 +263,27 @@ pub fn recording() -> bool {
     with_mode(|mode| matches!(mode, Mode::Record { .. }))
 }
 
-/// Flush a recording (at the end of the run).
+/// At the end of the run: flush a recording; check that a replay used
+/// every recorded call (else it was not the recorded run: exit code 2).
 pub fn finish() {
-    with_mode(|mode| {
-        if let Mode::Record {
+    with_mode(|mode| match mode {
+        Mode::Record {
             calls,
             points,
             computations,
             ..
-        } = mode
-        {
+        } => {
             for file in [calls, points, computations] {
-                file.flush().expect("write the record");
+                file.flush().unwrap_or_else(|e| refuse(&e.to_string()));
             }
         }
+        Mode::Replay {
+            calls, next_call, ..
+        } if *next_call * CALL_BYTES != calls.len() => refuse(&format!(
+            "replayed {} of {} recorded calls: replay the recorded scene and flags (one thread)",
+            *next_call,
+            calls.len() / CALL_BYTES
+        )),
+        _ => {}
     })
 }
