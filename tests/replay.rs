@@ -35,6 +35,15 @@ fn run_to(t_end: &str, spec: &str, out: &Path) -> std::process::Output {
         .expect("fibresim runs")
 }
 
+/// A recorded run of [`run`] in `dir` (its output in `dir/record`): the
+/// recording's path.
+fn recorded(dir: &Path) -> std::path::PathBuf {
+    let rec = dir.join("rec");
+    let record = run(&format!("record:{}", rec.display()), &dir.join("record"));
+    assert!(record.status.success(), "{record:?}");
+    rec
+}
+
 /// Reference: the recorded run itself. Every set of replayed classes gives
 /// its `energy.csv` byte for byte; the recording holds calls of all four
 /// classes (a settled bed has pairs passed over, kept memories, scans and
@@ -42,12 +51,7 @@ fn run_to(t_end: &str, spec: &str, out: &Path) -> std::process::Output {
 #[test]
 fn a_replayed_run_is_the_recorded_run() {
     let dir = tempfile::tempdir().unwrap();
-    let rec = dir.path().join("rec");
-    let record = run(
-        &format!("record:{}", rec.display()),
-        &dir.path().join("record"),
-    );
-    assert!(record.status.success(), "{record:?}");
+    let rec = recorded(dir.path());
     let energy = std::fs::read(dir.path().join("record/energy.csv")).unwrap();
     let calls = std::fs::read(rec.with_extension("calls")).unwrap();
     let mut per_class = [0usize; 4];
@@ -90,16 +94,11 @@ fn a_replayed_run_is_the_recorded_run() {
 }
 
 /// A malformed request is refused with exit code 2, naming what is wrong;
-/// so is a replay of another run than the one recorded (here, longer).
+/// so is a replay of another run than the one recorded (longer or shorter).
 #[test]
 fn a_bad_request_is_refused() {
     let dir = tempfile::tempdir().unwrap();
-    let rec = dir.path().join("rec");
-    let record = run(
-        &format!("record:{}", rec.display()),
-        &dir.path().join("record"),
-    );
-    assert!(record.status.success(), "{record:?}");
+    let rec = recorded(dir.path());
     let replay = format!("replay:{}:kept", rec.display());
     for (t_end, says) in [
         ("4e-5", "more calls than were recorded"),

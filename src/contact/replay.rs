@@ -97,11 +97,10 @@ fn refuse(what: &str) -> ! {
 }
 
 fn open(spec: &str) -> Mode {
-    let fail = |what: String| -> ! { refuse(&what) };
     let create = |path: String| {
         std::fs::File::create(&path)
             .map(std::io::BufWriter::new)
-            .unwrap_or_else(|e| fail(format!("cannot create {path}: {e}")))
+            .unwrap_or_else(|e| refuse(&format!("cannot create {path}: {e}")))
     };
     if let Some(path) = spec.strip_prefix("record:") {
         return Mode::Record {
@@ -112,22 +111,22 @@ fn open(spec: &str) -> Mode {
         };
     }
     let Some(rest) = spec.strip_prefix("replay:") else {
-        fail("expected record:PATH or replay:PATH:CLASSES".into())
+        refuse("expected record:PATH or replay:PATH:CLASSES")
     };
     let Some((path, list)) = rest.rsplit_once(':') else {
-        fail("expected replay:PATH:CLASSES (passed,kept,dispatch,scan)".into())
+        refuse("expected replay:PATH:CLASSES (passed,kept,dispatch,scan)")
     };
     let mut classes = [false; 4];
     for name in list.split(',').filter(|s| !s.is_empty()) {
         match CLASSES.iter().find(|(n, _)| *n == name) {
             Some(&(_, c)) => classes[c as usize] = true,
-            None => fail(format!(
+            None => refuse(&format!(
                 "unknown class {name:?} (passed, kept, dispatch, scan)"
             )),
         }
     }
     let read = |path: String| {
-        std::fs::read(&path).unwrap_or_else(|e| fail(format!("cannot read {path}: {e}")))
+        std::fs::read(&path).unwrap_or_else(|e| refuse(&format!("cannot read {path}: {e}")))
     };
     let calls = read(format!("{path}.calls"));
     let raw = read(format!("{path}.points"));
