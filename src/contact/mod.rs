@@ -20,12 +20,17 @@ pub mod dispatch;
 pub mod fibre_fibre;
 pub mod fibre_wall;
 pub mod hertz;
+mod hertz_spheres;
 mod laws;
 pub(crate) mod memory;
 pub(crate) mod overlap_check;
 #[cfg(feature = "replay")]
 pub mod replay;
 pub(crate) mod slots;
+pub mod sphere;
+pub mod sphere_fibre;
+pub mod sphere_sphere;
+pub mod sphere_wall;
 pub mod stage;
 pub mod walls;
 
@@ -34,6 +39,13 @@ pub use dispatch::{contacts, contacts_remembering, Collider};
 pub use fibre_fibre::{contact_fibre_fibre, contact_fibre_fibre_remembering, PairMemory};
 pub use fibre_wall::contact_fibre_wall;
 pub use hertz::HertzLaw;
+pub use sphere::SphereGeom;
+pub use sphere_fibre::{
+    contact_fibre_sphere, contact_sphere_fibre, sphere_fibre_depth, SphereFibreDepth,
+    SphereFibreFeature,
+};
+pub use sphere_sphere::contact_sphere_sphere;
+pub use sphere_wall::contact_sphere_wall;
 pub use walls::{box_walls, Wall, Walls};
 
 use glam::DVec3;
