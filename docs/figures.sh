@@ -65,9 +65,9 @@ cp out/torque_fibre/converge/work_precision.png "$fig/tc4_work_precision.png"
 
 # --- Tables printed by tests: ~1 min each if the tests need a rebuild --------
 # README "Test case 3": angle and x-errors of every rotator at dt = 1e-4.
-cargo test --release --test rotators -q -- --nocapture test_case_3
+cargo test --release --test suite -q rotators::test_case_3 -- --nocapture
 # README "Observed orders of convergence".
-cargo test --release --test rotator_order -q -- --nocapture
+cargo test --release --test suite -q rotator_order:: -- --nocapture
 
 if [ "$long" = 1 ]; then
   # --- Test cases 1 and 2 (Figs. 2-4), dt = 1e-7, 2 s, 2e7 steps per run ------

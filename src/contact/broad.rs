@@ -266,7 +266,7 @@ pub struct GridScratch {
 /// and wall is in it. The kernels
 /// then see the same candidates, in the same order, as a full search would
 /// give them (the others have no contact), so forces are bit-identical
-/// (`tests/broad_phase.rs`).
+/// (`tests/suite/broad_phase.rs`).
 ///
 /// The end points are not formed every step: an end point `x ± h R(q) eₓ`
 /// moves by at most `|Δx| + 2h ‖Δq‖`, since `‖R(q) − R(p)‖ = 2 sin(θ/2) ≤

@@ -4,7 +4,7 @@
 //!
 //! The pre-check ([`super::precheck`]) checks a file against this table
 //! before serde, `fibresim keys` prints it, and docs/scenario.md carries it;
-//! `tests/scenario_reference.rs` keeps the table, the serde mirror
+//! `tests/suite/scenario_reference.rs` keeps the table, the serde mirror
 //! (`file.rs`) and the docs in step. A new key is one line in [`KEYS`] (and
 //! its serde field).
 

@@ -16,7 +16,7 @@
 //! from the start is the geodesic angle plus the relative ω difference.
 //!
 //! The table is printed by
-//! `cargo test --release --test free_flight -- --ignored --nocapture long_runs`
+//! `cargo test --release --test suite free_flight::long_runs -- --ignored --nocapture`
 //! (README, Rotators beyond the paper).
 
 use crate::integrate::rotate::RotatorKind;

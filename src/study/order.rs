@@ -1,5 +1,5 @@
 //! The measured order of a rotator, the check behind every `RotatorInfo::order`
-//! (`tests/rotator_order.rs` runs it for each rotator of the list).
+//! (`tests/suite/rotator_order.rs` runs it for each rotator of the list).
 //!
 //! A case is a contact-free scene with a general load (asymmetric inertia or
 //! a time-dependent torque in full 3-D). The rotator runs on a ladder of
@@ -191,7 +191,7 @@ fn final_orientation(scene: &Scene, kind: RotatorKind, dt: f64) -> Result<glam::
 
 /// The reference orientation at the case's end, and its estimated error
 /// (0 for an exact reference: it is accurate to ~1e-13 rad,
-/// `tests/reference.rs`).
+/// `tests/suite/reference.rs`).
 pub fn reference(case: &OrderCase) -> (glam::DQuat, f64) {
     if let Some(exact) = &case.scene.reference {
         return (exact.orientation(case.scene.sim.t_end()), 0.0);

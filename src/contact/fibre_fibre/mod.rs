@@ -74,7 +74,7 @@ pub const COAXIAL_SIN: f64 = 0.02;
 /// apart can only be regime 3's, which answers nothing for it either.
 /// (Inside the band the side–side end model, capsule-like near the other's
 /// end, can touch such a pair: given weight 1 up to |sin| 0.1, it touches
-/// one 65 µm apart, and `tests/contact_memory.rs`'s premise test fails.)
+/// one 65 µm apart, and `tests/suite/contact_memory.rs`'s premise test fails.)
 #[inline]
 pub(super) fn room_beyond_parallel(a: &FibreGeom, b: &FibreGeom) -> f64 {
     let sin = a.axis.cross(b.axis).length();

@@ -484,7 +484,7 @@ pub fn rotator_table() -> String {
         let _ = writeln!(s, "{:14} prescribed torque: {}", "", i.torque_contract);
         let _ = writeln!(s, "{:14} contact torque:    {}", "", i.contact_contract);
     }
-    let _ = writeln!(s, "\norder: measured global order for a general load, free: in torque-free motion of an asymmetric body (study::order, tests/rotator_order.rs); sympl: symplectic; rev: time-reversible; evals: torque evaluations per step");
+    let _ = writeln!(s, "\norder: measured global order for a general load, free: in torque-free motion of an asymmetric body (study::order, tests/suite/rotator_order.rs); sympl: symplectic; rev: time-reversible; evals: torque evaluations per step");
     s
 }
 

@@ -90,7 +90,7 @@ impl Rotator for Omelyan {
         }
         // The Cayley factor is unit in exact arithmetic, but its rounding
         // is biased (|q|² falls by ~4e-17 a step: 9e-11 in |q| over 10⁶
-        // steps, tests/rotators.rs), so the product is renormalised; this
+        // steps, tests/suite/rotators.rs), so the product is renormalised; this
         // removes only rounding, as in `leapfrog`.
         rot.q = (rot.q * cayley(h * omega)).normalize();
         rot.omega_b = omega;

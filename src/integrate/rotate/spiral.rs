@@ -66,7 +66,7 @@ impl Rotator for Spiral {
         let w_dot = inertia.angular_acceleration(w, tau_b);
         // The second factor turns by only h²|ω̇|/2 (~1e-8 rad), so its
         // cosine rounds the same way step after step: |q| drifts by 4.5e-11
-        // over 10⁶ steps (tests/rotators.rs). Renormalised: this removes
+        // over 10⁶ steps (tests/suite/rotators.rs). Renormalised: this removes
         // only that rounding.
         rot.q = (rot.q * exp_map(h * w) * exp_map((0.5 * h * h) * w_dot)).normalize();
         rot.omega_b = w + ssprk3(inertia, w, tau_b, h);

@@ -113,7 +113,7 @@ mod tests {
     }
 }
 
-/// The order harness of `tests/rotator_order.rs` on `split4` (listed only in
+/// The order harness of `tests/suite/rotator_order.rs` on `split4` (listed only in
 /// unit tests): fourth order on every torque case, exact on the torque-free
 /// top. Before `split` renormalised after its free flow, the manufactured
 /// case stopped at a ~1e-10 rad floor (fitted 0.90).

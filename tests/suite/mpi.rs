@@ -9,10 +9,9 @@
 //! one-process diagnosis and exit code.
 //!
 //! Needs `mpirun` (Debian: `apt-get install openmpi-bin libopenmpi-dev
-//! libclang-dev`); run with `cargo test --release --features mpi --test mpi`.
-#![cfg(feature = "mpi")]
+//! libclang-dev`); run with `cargo test --release --features mpi --test suite mpi::`.
 
-mod common;
+use crate::common;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -207,7 +206,7 @@ fn one_and_two_ranks_give_the_bytes_of_one_process() {
 }
 
 /// More ranks than the machine's two cores: run with
-/// `cargo test --release --features mpi --test mpi -- --ignored`.
+/// `cargo test --release --features mpi --test suite mpi:: -- --ignored`.
 #[test]
 #[ignore = "3 and 4 ranks oversubscribe a 2-core machine; run with -- --ignored"]
 fn three_and_four_ranks_give_the_bytes_of_one_process() {

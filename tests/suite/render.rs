@@ -3,7 +3,7 @@
 //! as long as it is; the nearer of two crossing fibres is drawn on top; a
 //! GIF has one frame per VTK frame; bad flags and inputs are exit 2.
 
-mod common;
+use crate::common;
 use common::{fibresim, ok};
 use std::path::Path;
 

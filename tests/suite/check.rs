@@ -2,7 +2,7 @@
 //! value computed here from its closed form (docs/physics.md §2, §3, §8), not from the
 //! library's functions.
 
-mod common;
+use crate::common;
 use common::fibresim;
 
 use std::f64::consts::PI;

@@ -2,7 +2,7 @@
 //! README) loads and runs, its key tables are `fibresim keys --markdown`,
 //! and the key table names exactly the fields the serde mirror accepts.
 
-mod common;
+use crate::common;
 use common::fibresim;
 
 use std::collections::BTreeSet;

@@ -1,7 +1,7 @@
 //! `summary.json` after `--resume`: `wall_s` is the resumed part,
 //! `wall_total_s` every part (README, Outputs).
 
-mod common;
+use crate::common;
 use common::fibresim;
 
 use serde_json::Value;

@@ -2,7 +2,7 @@
 //! T followed by a resumed run to 2T, with contacts, with a prescribed torque,
 //! and after a real SIGINT.
 
-mod common;
+use crate::common;
 use common::{fibresim, ok, read_bytes, resume_to};
 
 use std::path::{Path, PathBuf};

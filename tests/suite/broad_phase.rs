@@ -5,7 +5,7 @@
 //! pair's last end-involved scan the same way (the search by pair, the
 //! stage along its list, carried across its rebuilds).
 
-mod common;
+use crate::common;
 use common::scene_str;
 use fibresim::body::{BodyState, Shape};
 use fibresim::contact::stage::motion_bound;
@@ -205,7 +205,7 @@ fn neighbour_list_matches_a_full_search_grid() {
 }
 
 /// The grid finds exactly the box pairs the sweep finds (itself checked
-/// against brute force in `tests/contact_geometry.rs`), on dense, sparse,
+/// against brute force in `tests/suite/contact_geometry.rs`), on dense, sparse,
 /// elongated and degenerate sets of boxes.
 #[test]
 fn grid_pairs_equal_sweep_pairs() {

@@ -2,8 +2,8 @@
 //! mutated input never panics; it loads or fails as bad input (exit code 2).
 //! Counts: 4000 arbitrary strings + 6000 byte-level mutations of the shipped
 //! scenarios per `cargo test` run (proptest's default seed varies per run),
-//! printed and asserted at run time (`cargo test --release --test loader_fuzz
-//! -- --nocapture`).
+//! printed and asserted at run time (`cargo test --release --test suite
+//! loader_fuzz:: -- --nocapture`).
 
 use fibresim::error::Error;
 use fibresim::scenario::parse_str;

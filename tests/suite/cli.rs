@@ -1,6 +1,6 @@
 //! The `fibresim` binary: output files, cadence, determinism, errors and exit codes.
 
-mod common;
+use crate::common;
 use common::fibresim;
 
 use std::path::Path;

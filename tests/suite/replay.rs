@@ -1,8 +1,7 @@
 //! The kernel replay tool (`src/contact/replay.rs`, feature `replay`): a
 //! run that replays recorded kernel answers is the recorded run, bit for
 //! bit, whichever classes it replays. Run: `cargo test --release --features
-//! replay --test replay` (CI does).
-#![cfg(feature = "replay")]
+//! replay --test suite replay::` (CI does).
 
 use std::path::Path;
 use std::process::Command;

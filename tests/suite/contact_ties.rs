@@ -9,7 +9,7 @@
 //! against central finite differences of the potential, and the force
 //! along a family through the tie must change by small steps (C¹).
 
-mod common;
+use crate::common;
 use common::*;
 use fibresim::contact::{FibreGeom, HertzLaw};
 use fibresim::integrate::step::World;

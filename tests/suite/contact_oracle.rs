@@ -16,7 +16,7 @@
 //! oracle's own minimum-translation direction (moving B along it by t
 //! changes a convex pair's depth by exactly −t), not by bisection on parry.
 
-mod common;
+use crate::common;
 use common::{ff_contacts, fib, Rng, H, R};
 
 use fibresim::contact::fibre_fibre::{segment_closest_params, END_FACE_DOME_SIN};

@@ -2,7 +2,7 @@
 //! bed it writes (an elastic scenario whose body file holds the final
 //! states to the bit), and its refusals.
 
-mod common;
+use crate::common;
 use common::fibresim;
 
 const SCENE: &str = "[simulation]\ndt = 1e-5\nt_end = 0.01\n[world]\ngravity = [0.0, 0.0, -9.81]\n[box]\nmin = [0.0, 0.0, 0.0]\nmax = [0.2, 0.2, 0.2]\nyoung = 5e7\npoisson = 0.35\n[material.pa]\ndensity = 1100.0\nyoung = 5e7\npoisson = 0.35\n[contact]\nrestitution = 0.3\n";

@@ -3,7 +3,7 @@
 //! bit (x, q, v), its world angular velocity the summary's body-frame one
 //! rotated by R(q) (a rotation matrix here, not the library's rotation).
 
-mod common;
+use crate::common;
 use common::fibresim;
 use std::path::Path;
 

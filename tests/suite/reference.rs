@@ -7,7 +7,7 @@
 //! is bounded by Richardson's estimate `|q(δ) − q(2δ)|/15` (asserted below
 //! 1e-13 rad, so a 1e-12 rad agreement is a test of the closed form).
 
-mod common;
+use crate::common;
 use common::*;
 use fibresim::integrate::rotate::RotatorKind;
 use fibresim::math::geodesic_angle;

@@ -3,7 +3,7 @@
 //! tiny tilts kept, negative numbers as flag values, and the overlap ratio
 //! the README defines.
 
-mod common;
+use crate::common;
 use common::{fibresim, scene_str};
 
 use std::f64::consts::PI;

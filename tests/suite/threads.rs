@@ -3,7 +3,7 @@
 //! threshold) run with `--threads 1`, `2`, `4` and with `RAYON_NUM_THREADS`
 //! writes identical `energy.csv` and `summary.json` (less the wall times).
 
-mod common;
+use crate::common;
 use std::path::Path;
 use std::process::Command;
 

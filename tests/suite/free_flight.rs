@@ -2,9 +2,9 @@
 //! steps, and time reversibility of every rotator.
 //!
 //! The references are the closed forms of `fibresim::reference`, themselves
-//! checked against tight rk4 runs to ≤ 1e-12 rad (`tests/reference.rs`).
+//! checked against tight rk4 runs to ≤ 1e-12 rad (`tests/suite/reference.rs`).
 
-mod common;
+use crate::common;
 use common::*;
 use fibresim::integrate::rotate::RotatorKind;
 use fibresim::math::geodesic_angle;
@@ -84,7 +84,7 @@ fn round_trip(kind: RotatorKind, dt: f64, n: u64) -> f64 {
 
 /// `RotatorInfo::reversible` holds: a reversible scheme returns to rounding
 /// (< 1e-11 after 2 × 400 steps of 5e-3 s), the others miss by more than
-/// 1e-9 (a step coarse enough that rk4's own error shows) (`cargo test --release --test free_flight -- --nocapture` prints
+/// 1e-9 (a step coarse enough that rk4's own error shows) (`cargo test --release --test suite free_flight:: -- --nocapture` prints
 /// every distance, quoted in the README).
 #[test]
 fn reversibility_is_as_listed() {
@@ -105,7 +105,7 @@ fn reversibility_is_as_listed() {
 /// (1e-5 s), energy and angular momentum against their start, orientation
 /// against the closed form, and the round trip (forward 2 s at 5e-3 s on
 /// the top, 0.2 s at 5e-4 s on the fibre, ω flipped, back). Ignored: ~2 min
-/// of CPU. `cargo test --release --test free_flight -- --ignored --nocapture long_runs`
+/// of CPU. `cargo test --release --test suite free_flight::long_runs -- --ignored --nocapture`
 /// prints the markdown the README quotes and writes it to
 /// `target/long_runs.md`.
 #[test]

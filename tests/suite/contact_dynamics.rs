@@ -1,7 +1,7 @@
 //! Contact dynamics with whole runs (issue 3, item 7). Each reference value is a
 //! conservation law, a symmetry, or the closed-form Hertz collision time.
 
-mod common;
+use crate::common;
 use common::*;
 use fibresim::integrate::rotate::RotatorKind;
 use fibresim::run::integrate_observed;

@@ -7,7 +7,7 @@
 //! resumed from a checkpoint writes the same bytes; the VTK library itself
 //! checks a series through `scripts/check_vtk.py` when it is installed.
 
-mod common;
+use crate::common;
 use common::{fibresim, ok, resume_to};
 
 use fibresim::output::vtk::read::{read_pvd, read_vtp, Vtp};

@@ -1,7 +1,7 @@
 //! The README's Outputs table names (with a unit) every column of
 //! `energy.csv` and `orientation.csv` and every key of `summary.json`.
 
-mod common;
+use crate::common;
 use common::fibresim;
 
 use std::collections::BTreeSet;

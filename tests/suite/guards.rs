@@ -3,7 +3,7 @@
 //! the stop intact. The quaternion-norm guard is unreachable with correct
 //! rotators, so it is checked on a `World` directly.
 
-mod common;
+use crate::common;
 use common::fibresim;
 
 use fibresim::integrate::rotate::Frozen;
@@ -152,7 +152,7 @@ torque = ["0", "exp(1e6*t)", "0"]
 }
 
 /// Test case 1's soft fibre at 50 m/s: exact Hertz theory gives δ ≈ 0.58 D,
-/// stopped at 0.2 D (the library-level twin is in tests/stress.rs).
+/// stopped at 0.2 D (the library-level twin is in tests/suite/stress.rs).
 #[test]
 fn overlap_guard_exits_3_and_keeps_rows() {
     let dir = tempfile::tempdir().unwrap();

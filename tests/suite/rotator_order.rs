@@ -7,7 +7,7 @@
 //! that estimate (and rounding) are fitted. Run with `-- --nocapture` for
 //! the table the README quotes.
 
-mod common;
+use crate::common;
 use common::*;
 use fibresim::integrate::rotate::RotatorKind;
 

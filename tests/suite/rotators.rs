@@ -1,6 +1,6 @@
 //! Rotator accuracy against closed forms and invariants (issue 2, item 7).
 
-mod common;
+use crate::common;
 use common::*;
 use fibresim::body::{Inertia, RotState};
 use fibresim::integrate::rotate::{Direct, Rotator, RotatorFault, RotatorKind, Scalar};
@@ -68,7 +68,7 @@ fn test_case_3_against_closed_form() {
 /// other side of the closed form (previous test).
 #[test]
 fn paper_table_2_is_reproduced_with_the_torque_at_the_step_end() {
-    let text = include_str!("../scenarios/torque_sphere.toml");
+    let text = include_str!("../../scenarios/torque_sphere.toml");
     let text = &text[..text.find("[reference]").expect("tc3 has a reference")];
     let dt = 1e-4;
     let shifted = |shift: f64, omega_y: f64| {

@@ -1,6 +1,6 @@
 //! The study commands: `compare`, `converge`, `plot` (issue 4). Short runs only.
 
-mod common;
+use crate::common;
 
 use fibresim::integrate::rotate::RotatorKind;
 use std::path::Path;

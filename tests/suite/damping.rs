@@ -7,7 +7,7 @@
 //! √(ln² e + π²)` for a fibre landing flat on both ends (Antypov & Elliott
 //! 2011; the module docs derive the √2).
 
-mod common;
+use crate::common;
 use common::scene_str;
 use fibresim::run::integrate_observed;
 use std::f64::consts::PI;

@@ -3,7 +3,7 @@
 //! what was asked for is what was placed, and bad rows named at file, line
 //! and column with the fix.
 
-mod common;
+use crate::common;
 use common::fibresim;
 use std::f64::consts::PI;
 use std::path::Path;

@@ -1,14 +1,14 @@
 //! Pair memories (`contact/fibre_fibre/coherence.rs`): a pair that answers
 //! from its memory of its last end-involved scan answers what the scan
 //! would. The reference is the scan itself (the feature-pair kernels,
-//! checked against the brute-force oracle in `tests/contact_oracle.rs`),
+//! checked against the brute-force oracle in `tests/suite/contact_oracle.rs`),
 //! run on the same pair at the same pose: at every step of a settled bed
 //! stepped at the settling δt (so that its contacts slide, open and
 //! close), every remembered contact has the scan's points to within the
 //! tolerance the scan itself allows between two answers for one minimum,
 //! and a memory kept in its regime answers the whole dispatch's bits.
 
-mod common;
+use crate::common;
 use fibresim::contact::fibre_fibre::segment_closest_params;
 use fibresim::contact::stage::{geom, motion_bound};
 use fibresim::contact::{
@@ -24,7 +24,7 @@ use std::collections::HashMap;
 /// kernel's minimum when it is within `CERTIFY_TOL·(r_A + r_B)` (1e-14 m
 /// here) of a cheap axis's value and keeps the lower of the two, and its
 /// fallback (the iterative search, 0.07 % of the bed's scans) agrees with
-/// the kernels to 5e-13 m (`tests/contact_oracle.rs`); the memory keeps the
+/// the kernels to 5e-13 m (`tests/suite/contact_oracle.rs`); the memory keeps the
 /// kernel's value.
 const DEPTH_TOL: f64 = 1e-12;
 /// The same for the normal (a unit vector): at a minimum the depth is flat
@@ -172,7 +172,7 @@ fn a_remembered_contact_is_the_scanned_contact() {
 /// other stationary points, answered one contact here for 12 steps.)
 #[test]
 fn a_minimum_born_near_the_least_ends_the_memory() {
-    let text = include_str!("data/memory_birth_pair.txt");
+    let text = include_str!("../data/memory_birth_pair.txt");
     let poses: Vec<[FibreGeom; 2]> = text
         .lines()
         .filter(|l| !l.starts_with('#'))

@@ -2,7 +2,7 @@
 //! form (derived in the comment) or parry3d-f64 used as an oracle where it is
 //! reliable (half-space passed FIRST; side–side crossings away from the ends).
 
-mod common;
+use crate::common;
 use common::{ff_contacts, ff_contacts_counted, fib, hertz_wrench, Rng, H, R};
 
 use fibresim::body::Shape;
@@ -989,7 +989,7 @@ fn end_involved_depth_is_min_of_domed_projection_overlap() {
     // grid search around our normal must not find a smaller domed overlap,
     // our depth must equal the domed overlap along our normal, and it must
     // lie within [exact overlap along n, exact + 2σ]. (An independent
-    // global oracle is in tests/contact_oracle.rs.) parry's own depth is
+    // global oracle is in tests/suite/contact_oracle.rs.) parry's own depth is
     // compared and its worst difference printed.
     let poses = end_involved_poses(300, 99);
     let sag = dome_sag(R);
