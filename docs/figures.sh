@@ -67,7 +67,7 @@ cp out/torque_fibre/converge/work_precision.png "$fig/tc4_work_precision.png"
 # README "Test case 3": angle and x-errors of every rotator at dt = 1e-4.
 cargo test --release --test suite -q rotators::test_case_3 -- --nocapture
 # README "Observed orders of convergence".
-cargo test --release --test suite -q rotator_order:: -- --nocapture
+cargo test --release --test suite -q rotator_order:: -- --include-ignored --nocapture
 
 if [ "$long" = 1 ]; then
   # --- Test cases 1 and 2 (Figs. 2-4), dt = 1e-7, 2 s, 2e7 steps per run ------

@@ -83,6 +83,7 @@ fn agree(m: &[ContactPoint], s: &[ContactPoint], fell_back: bool) -> Result<(), 
 }
 
 #[test]
+#[ignore = "slow tier: a settling bed's remembered contacts against a scan at every step"]
 fn a_remembered_contact_is_the_scanned_contact() {
     let mut scene = common::scene_file("bed_1k.toml");
     // The settling step: 20× the bed's, so that in 600 steps its contacts

@@ -558,6 +558,7 @@ fn tied_minima_give_the_smooth_minimum_of_the_oracle_minima() {
 /// answer on all but 0.2 % of them (the rest go to the iterative search).
 /// Source of the pairs: the shipped bed file; of the depths: the oracle.
 #[test]
+#[ignore = "slow tier: a real bed's end-involved pairs against the brute-force oracle"]
 fn bed_pairs_match_brute_force_oracle() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/bed_10k.toml");
     let scene = fibresim::scenario::load(std::path::Path::new(path)).expect("the bed");

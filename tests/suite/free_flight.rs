@@ -104,12 +104,12 @@ fn reversibility_is_as_listed() {
 /// 10⁶ steps on the asymmetric top (1e-4 s) and on the precessing fibre
 /// (1e-5 s), energy and angular momentum against their start, orientation
 /// against the closed form, and the round trip (forward 2 s at 5e-3 s on
-/// the top, 0.2 s at 5e-4 s on the fibre, ω flipped, back). Ignored: ~2 min
-/// of CPU. `cargo test --release --test suite free_flight::long_runs -- --ignored --nocapture`
+/// the top, 0.2 s at 5e-4 s on the fibre, ω flipped, back). In the slow tier:
+/// `cargo test --release --test suite free_flight::long_runs -- --ignored --nocapture`
 /// prints the markdown the README quotes and writes it to
 /// `target/long_runs.md`.
 #[test]
-#[ignore]
+#[ignore = "slow tier: 10⁶ steps of every rotator on two scenes; prints the table the docs quote"]
 fn long_runs_table() {
     use fibresim::study::long_run::{long_run, markdown, round_trip};
     let mut out = String::new();
