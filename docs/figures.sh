@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
 # Regenerate every figure in docs/figures/ and the tables that a command
-# prints, with the exact commands the README and docs show beside them.
+# prints, with the exact commands the manual (docs/) shows beside them.
 #
 #   docs/figures.sh              everything (test cases 1-2 take minutes)
 #   docs/figures.sh --skip-long  all but test cases 1 and 2
 #
 # Times are wall times on the shared 2-core machine (2026-12).
 # The study commands write to their default folders under out/ and print
-# their tables (the numbers in the README and docs/studies.md); this script
-# copies the figures into docs/figures/ under the names the README uses.
+# their tables (the numbers in docs/validation.md and docs/studies.md); this
+# script copies the figures into docs/figures/ under the names the pages use.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -39,12 +39,18 @@ splice() {
   mv "$file.tmp" "$file"
 }
 
+# --- Generated reference tables: instant ----------------------------------
+mkdir -p out
+"$fibresim" rotators --markdown >out/rotators.md
+splice docs/rotators.md rotators out/rotators.md
+"$fibresim" keys --markdown >out/keys.md
+splice docs/scenario.md keys out/keys.md
+
 # --- Stress suite and stability map: ~1 s (616 runs) -----------------------
 "$fibresim" stress --out out/stress -q
 cp out/stress/stability_map.png "$fig/stability_map.png"
 splice docs/stress.md stress_full out/stress/stress_full.md
 splice docs/stress.md stress_table out/stress/stress_table.md
-echo "README stress table: out/stress/stress_table.md (also in docs/stress.md)"
 
 # --- Test case 3 (Table 2), closed form: ~0.3 s and ~1.5 s ------------------
 "$fibresim" compare scenarios/torque_sphere.toml --rotators all
@@ -64,9 +70,9 @@ cp out/torque_fibre/converge/convergence_geodesic.png "$fig/tc4_convergence_geod
 cp out/torque_fibre/converge/work_precision.png "$fig/tc4_work_precision.png"
 
 # --- Tables printed by tests: ~1 min each if the tests need a rebuild --------
-# README "Test case 3": angle and x-errors of every rotator at dt = 1e-4.
+# docs/validation.md "Test case 3": angle and x-errors of every rotator at dt = 1e-4.
 cargo test --release --test suite -q rotators::test_case_3 -- --nocapture
-# README "Observed orders of convergence".
+# docs/validation.md "Orders of convergence".
 cargo test --release --test suite -q rotator_order:: -- --include-ignored --nocapture
 
 if [ "$long" = 1 ]; then
@@ -75,9 +81,9 @@ if [ "$long" = 1 ]; then
   "$fibresim" compare scenarios/single_fibre.toml --rotators pcdm,scalar,euler,leapfrog,frozen
   cp out/single_fibre/compare/energy_error_full.png "$fig/tc1_compare.png"
   # Test case 2: ~1-2 min (4 nine-fibre runs of ~17 s of stepping each, on
-  # 2 cores, more while contacts are live). The figure uses exactly the
-  # command of issue 4's done-when; the `frozen` baseline row of the README
-  # table comes from a separate run, so it is not in the figure.
+  # 2 cores, more while contacts are live). The `frozen` baseline row of
+  # docs/validation.md's table comes from a separate run, so it is not in
+  # the figure.
   "$fibresim" compare scenarios/nine_fibres.toml --rotators pcdm,scalar,euler,leapfrog
   cp out/nine_fibres/compare/energy_error_full.png "$fig/tc2_compare.png"
   "$fibresim" compare scenarios/nine_fibres.toml --rotators frozen --out out/nine_fibres/frozen # ~20 s

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Fibre-steps per second of settled beds from 10^3 to 10^6 fibres, aspect
-# ratios 3 and 10, on 1 and 2 threads (issue 10), and the README's figure.
+# ratios 3 and 10, on 1 and 2 threads, and the figure of docs/performance.md.
 #
 #   scripts/bed_scaling.sh OUT_DIR      # ~15 min on an idle 2-core machine
 #
@@ -11,7 +11,7 @@
 # bench (medians of --repeats runs; its memory counts come with it), with
 # fewer steps for the larger beds so each sample takes seconds. Writes
 # OUT_DIR/bed_scaling.csv (a `series` column: one per aspect ratio and thread
-# count, plus the peers' measurements of issue 10 at 10^4 fibres) and
+# count, plus the peers' measurements at 10^4 fibres) and
 # docs/figures/bed_scaling.png from it with `fibresim plot`.
 set -euo pipefail
 out=${1:?give an output folder}

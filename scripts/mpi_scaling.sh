@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Strong and weak scaling over MPI ranks (issue 13), one CSV row per run.
+# Strong and weak scaling over MPI ranks, one CSV row per run.
 #
 #   scripts/mpi_scaling.sh OUT_DIR [STEPS_10K] [STEPS_1M] [STEPS_WEAK]
 #
@@ -72,7 +72,7 @@ for spec in "1 bed_100k 5,2,1" "2 bed_200k 10,2,1" "4 bed_400k 10,4,1"; do
   set -- $spec
   row weak "$(bed "$2" "$3")" "$1" 1 "$steps_weak" >/dev/null
 done
-# The README's figure: fibre-steps/s against ranks (1 thread each), one
+# The figure of docs/mpi.md: fibre-steps/s against ranks (1 thread each), one
 # series per bed, and one process on 2 threads for comparison.
 python3 - "$csv" <<'EOF'
 import csv, sys

@@ -3,7 +3,7 @@
 # so it can be compared on a busy machine): the difference of a 2e4-step and
 # a 1e4-step run, over 1e4, on test case 4 and on the torque-free asymmetric
 # top. Usage: scripts/rotator_instructions.sh [BINARY] (default
-# target/release/fibresim). Quoted in README, "Rotators beyond the paper".
+# target/release/fibresim). Quoted in docs/performance.md, "One body step".
 set -euo pipefail
 B=${1:-target/release/fibresim}
 OUT=$(mktemp -d)

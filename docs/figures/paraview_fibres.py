@@ -1,4 +1,4 @@
-"""ParaView screenshot of a fibresim VTK series (issue 11): each fibre a
+"""ParaView screenshot of a fibresim VTK series: each fibre a
 capped tube of radius D/2 around its VTK_LINE, coloured by speed, the box
 as an outline; beside it (right half) the same tubes, translucent, with an
 arrow per fibre from ParaView's 3D Glyphs oriented by the `quaternion`

@@ -424,22 +424,22 @@ fn help_lists_the_exit_codes() {
     assert!(short.contains("130 interrupted"), "{short}");
 }
 
-/// The README's rotator table is `fibresim rotators --markdown`, generated
-/// from each rotator's `RotatorInfo`.
+/// docs/rotators.md's rotator table is `fibresim rotators --markdown`,
+/// generated from each rotator's `RotatorInfo`.
 #[test]
-fn readme_rotator_table_is_generated() {
+fn docs_rotator_table_is_generated() {
     let o = fibresim(&["rotators", "--markdown"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let table = String::from_utf8(o.stdout).unwrap();
-    let readme = read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md"));
-    let inside = readme
+    let page = read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/rotators.md"));
+    let inside = page
         .split("<!-- BEGIN rotators -->\n")
         .nth(1)
         .and_then(|s| s.split("<!-- END rotators -->").next())
-        .expect("README has the rotator table markers");
+        .expect("docs/rotators.md has the rotator table markers");
     assert_eq!(
         inside, table,
-        "README's rotator table is stale: paste `fibresim rotators --markdown`"
+        "docs/rotators.md's rotator table is stale: paste `fibresim rotators --markdown`"
     );
     for k in fibresim::integrate::rotate::RotatorKind::SELECTABLE {
         assert!(table.contains(&format!("`{}`", k.name())));

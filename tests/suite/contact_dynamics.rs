@@ -289,7 +289,7 @@ fn symmetric_drop_stays_symmetric() {
 /// Test case 1 over its first bounce (0.33 s), each rotator at δt = 4e-7
 /// and 8e-7, full-budget energy error. The bound is the measured order of
 /// each rotator, not the paper's Fig. 2 claim (0.2 % for all), which two of
-/// them fail (README, "Test cases 1 and 2"):
+/// them fail (docs/validation.md, "Test cases 1 and 2"):
 /// * `euler`, `scalar`, `pcdm` take the contact torque of the configuration
 ///   at the start of the step (docs/physics.md §4), a local error ∝ δt in every step's
 ///   angular impulse, so the error left after a bounce is ∝ δt: doubling δt

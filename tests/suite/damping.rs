@@ -28,7 +28,7 @@ fn fibre(x: [f64; 3], axis: [f64; 3], v: [f64; 3]) -> String {
 }
 
 /// The Hertz time of a fibre–wall impact of mass m at speed v (closed form,
-/// README "Time-step advice": t = 2.868 (m²/(R* E*² v))^{1/5}).
+/// docs/guide.md, "Time-step advice": t = 2.868 (m²/(R* E*² v))^{1/5}).
 fn hertz_time(m: f64, v: f64) -> f64 {
     let e_star = 5e7 / (2.0 * (1.0 - 0.35 * 0.35));
     2.868_265_699_195_331_5 * (m * m / (0.005 * e_star * e_star * v)).powf(0.2)

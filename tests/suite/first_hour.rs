@@ -1,7 +1,7 @@
-//! A new user's first hour (issue 12): every problem of a scene in one
+//! A new user's first hour: every problem of a scene in one
 //! message, no silent rounding of t_end, warnings for implausible values,
 //! tiny tilts kept, negative numbers as flag values, and the overlap ratio
-//! the README defines.
+//! the user guide (docs/guide.md) defines.
 
 use crate::common;
 use common::{fibresim, scene_str};
@@ -243,7 +243,7 @@ fn negative_flag_values_reach_the_range_check() {
 }
 
 /// `max_overlap_ratio` is the largest overlap over the smaller diameter of
-/// the pair (README, Outputs). Two crossed fibres of diameters 10 and 4 mm
+/// the pair (docs/guide.md, Outputs). Two crossed fibres of diameters 10 and 4 mm
 /// meeting head on through their centres (no torque): energy balance
 /// `½ m* v² = (8/15) E* √R* δ^{5/2}` gives the deepest overlap.
 #[test]

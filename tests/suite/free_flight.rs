@@ -85,7 +85,7 @@ fn round_trip(kind: RotatorKind, dt: f64, n: u64) -> f64 {
 /// `RotatorInfo::reversible` holds: a reversible scheme returns to rounding
 /// (< 1e-11 after 2 × 400 steps of 5e-3 s), the others miss by more than
 /// 1e-9 (a step coarse enough that rk4's own error shows) (`cargo test --release --test suite free_flight:: -- --nocapture` prints
-/// every distance, quoted in the README).
+/// every distance, quoted in docs/validation.md).
 #[test]
 fn reversibility_is_as_listed() {
     for kind in RotatorKind::ALL {
@@ -106,7 +106,7 @@ fn reversibility_is_as_listed() {
 /// against the closed form, and the round trip (forward 2 s at 5e-3 s on
 /// the top, 0.2 s at 5e-4 s on the fibre, ω flipped, back). In the slow tier:
 /// `cargo test --release --test suite free_flight::long_runs -- --ignored --nocapture`
-/// prints the markdown the README quotes and writes it to
+/// prints the markdown docs/validation.md quotes and writes it to
 /// `target/long_runs.md`.
 #[test]
 #[ignore = "slow tier: 10⁶ steps of every rotator on two scenes; prints the table the docs quote"]

@@ -861,8 +861,8 @@ fn legends_cover_no_data() {
 
 /// A long title over a chart whose legend sits outside (data in every
 /// corner) is centred on the canvas and wholly on it: plotters' caption
-/// centred it on the area left of the legend, and the README's convergence
-/// figure lost its first letters off the left edge.
+/// centred it on the area left of the legend, and the convergence figure of
+/// docs/studies.md lost its first letters off the left edge.
 #[test]
 fn long_title_stays_on_the_canvas_beside_an_outside_legend() {
     let chart = corner_lines(

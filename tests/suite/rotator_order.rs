@@ -5,7 +5,7 @@
 //! below the ladder, its own error estimated by Richardson
 //! (`|q(δ) − q(2δ)| / (2⁴ − 1)`); only rungs whose errors exceed 100 times
 //! that estimate (and rounding) are fitted. Run with `-- --nocapture` for
-//! the table the README quotes.
+//! the table docs/validation.md quotes.
 
 use crate::common;
 use common::*;

@@ -25,7 +25,7 @@ fn test_case_3_against_closed_form() {
     assert!((x_ref - DVec3::new(theta.cos(), 0.0, -theta.sin())).length() < 1e-12);
     // The paper's "theoretical result" is (2.934253e-1, 0, -9.55982e-1); the exact
     // closed form gives x = 2.934440e-1: the paper's value is off by 1.9e-5 in x
-    // (an angle of 2e-5 rad), see the README.
+    // (an angle of 2e-5 rad), see docs/validation.md.
     assert!((x_ref.x - 0.2934440).abs() < 5e-8, "{x_ref}");
     assert!((x_ref.x - 0.2934253).abs() < 2.5e-5 && (x_ref.z + 0.955982).abs() < 1e-5);
 

@@ -1,5 +1,5 @@
 //! `summary.json` after `--resume`: `wall_s` is the resumed part,
-//! `wall_total_s` every part (README, Outputs).
+//! `wall_total_s` every part (docs/guide.md, Outputs).
 
 use crate::common;
 use common::fibresim;

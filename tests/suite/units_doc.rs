@@ -1,5 +1,6 @@
-//! The README's Outputs table names (with a unit) every column of
-//! `energy.csv` and `orientation.csv` and every key of `summary.json`.
+//! The user guide's Outputs table (docs/guide.md) names (with a unit) every
+//! column of `energy.csv` and `orientation.csv` and every key of
+//! `summary.json`.
 
 use crate::common;
 use common::fibresim;
@@ -7,15 +8,17 @@ use common::fibresim;
 use std::collections::BTreeSet;
 use std::path::Path;
 
-/// Every backticked name in the README's Outputs table (first and last column).
+/// Every backticked name in the user guide's Outputs table (first and last
+/// column).
 fn documented() -> BTreeSet<String> {
-    let readme =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
-    let section = readme
-        .split("## Outputs")
+    let guide =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/guide.md"))
+            .unwrap();
+    let section = guide
+        .split("\n## Outputs\n")
         .nth(1)
         .and_then(|s| s.split("\n## ").next())
-        .expect("README has an Outputs section");
+        .expect("docs/guide.md has an Outputs section");
     let mut names = BTreeSet::new();
     for line in section.lines().filter(|l| l.starts_with("| `")) {
         let cells: Vec<&str> = line.split(" | ").collect();
@@ -44,7 +47,7 @@ fn keys(v: &serde_json::Value, out: &mut BTreeSet<String>) {
 }
 
 #[test]
-fn every_written_column_and_key_has_a_unit_in_the_readme() {
+fn every_written_column_and_key_has_a_unit_in_the_guide() {
     let doc = documented();
     let dir = tempfile::tempdir().unwrap();
     let mut written = BTreeSet::new();
@@ -84,6 +87,6 @@ fn every_written_column_and_key_has_a_unit_in_the_readme() {
     let missing: Vec<&String> = written.iter().filter(|k| !doc.contains(*k)).collect();
     assert!(
         missing.is_empty(),
-        "not in the README's Outputs table: {missing:?}"
+        "not in docs/guide.md's Outputs table: {missing:?}"
     );
 }
