@@ -252,7 +252,7 @@ impl fmt::Display for CheckReport<'_> {
                 if i.closing_kick {
                     ""
                 } else {
-                    " That is first order in dt: its energy error per collision falls only like dt (README, test case 1; `fibresim stress` for stiff impacts)"
+                    " That is first order in dt: its energy error per collision falls only like dt (docs/validation.md, test case 1; `fibresim stress` for stiff impacts)"
                 }
             )?;
         }
