@@ -1,6 +1,6 @@
 //! One error type for the whole program, split by what the user must do about it.
 //!
-//! Exit codes (documented in the README): 2 = bad input (fix the scenario or the
+//! Exit codes (documented in docs/guide.md): 2 = bad input (fix the scenario or the
 //! flags), 3 = the run became unstable and was stopped (see the diagnosis),
 //! 1 = anything else (I/O failure while writing results), 130 = interrupted by
 //! SIGINT (a checkpoint was written).
@@ -88,7 +88,7 @@ impl Error {
         }
     }
 
-    /// The process exit code for this error (README, "Exit codes").
+    /// The process exit code for this error (docs/guide.md, "Exit codes").
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::BadInput { .. } => 2,

@@ -8,7 +8,7 @@ use crate::integrate::rotate::RotatorKind;
 use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
 
-/// The exit-code table of `fibresim --help` (the README's "Exit codes").
+/// The exit-code table of `fibresim --help` (docs/guide.md, "Exit codes").
 pub const EXIT_CODES: &str = "\
 Exit codes:
   0    success
@@ -249,7 +249,7 @@ pub struct RenderArgs {
 
 #[derive(Debug, Args)]
 pub struct RotatorsArgs {
-    /// Print the README's markdown table instead.
+    /// Print docs/rotators.md's markdown table instead.
     #[arg(long)]
     pub markdown: bool,
 }

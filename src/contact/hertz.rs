@@ -30,7 +30,7 @@ fn effective_modulus(e1: f64, nu1: f64, e2: f64, nu2: f64) -> f64 {
 
 impl HertzLaw {
     /// Fibre–fibre: 1/R* = 2/D1 + 2/D2 (two crossed cylinders treated as spheres
-    /// of the fibre radii, as in the project SPEC).
+    /// of the fibre radii: a modelling choice, docs/physics.md §3).
     pub fn fibre_fibre(d1: f64, e1: f64, nu1: f64, d2: f64, e2: f64, nu2: f64) -> Self {
         Self {
             e_star: effective_modulus(e1, nu1, e2, nu2),

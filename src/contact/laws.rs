@@ -90,8 +90,8 @@ impl LawTable {
     }
 
     /// The law of body `a` (as the first fibre) against body `b`. (Inlined,
-    /// the table's lookup only: out of line it cost ~40 instructions a
-    /// touching pair, 1.5 % of a bed's step.)
+    /// the table's lookup only: out of line the call showed in a bed's step,
+    /// `cargo bench --bench bed`.)
     #[inline(always)]
     pub(crate) fn fibre_fibre(&self, a: usize, b: usize) -> HertzLaw {
         let (ka, kb) = (self.kind_of[a] as usize, self.kind_of[b] as usize);

@@ -1,5 +1,5 @@
 //! Contacts of rigid flat-ended cylindrical fibres (with each other and with
-//! the walls of a box) and the Hertz force law they feed (SPEC §3).
+//! the walls of a box) and the Hertz force law they feed (docs/physics.md §3).
 //!
 //! Every kernel appends [`ContactPoint`]s; the force on body A is
 //! `weight * F_hertz(overlap) * normal` acting at `point` (on B the opposite),

@@ -13,7 +13,7 @@
 //! those before it are computed: the pool's threads take the blocks in
 //! order, compute each into a ring of [`RING`] slots, and whichever thread
 //! finds the oldest computed block not yet added adds it. Only the ring's
-//! blocks are held, not the whole list's (issue 10 item 7); a thread waits
+//! blocks are held, not the whole list's (memory stays flat in N); a thread waits
 //! only when the ring is full (the adding is behind) and at the list's end.
 
 use super::broad::NeighbourList;
@@ -34,8 +34,8 @@ use std::sync::{Mutex, MutexGuard, PoisonError};
 /// torques `(p − c) × F (+ couple)` about each body's own centre (A's
 /// added, B's subtracted). With the torques made here, where the kernel
 /// has both centres at hand, the gather only adds: it reads no geometry
-/// (when it rebuilt them, from the point, it took 13 % of a step on one
-/// thread, its random reads of the centres mostly).
+/// (when it rebuilt them, from the point, its random reads of the centres
+/// made it a noticeable share of a step on one thread).
 #[derive(Debug, Clone, Copy)]
 struct Wrench {
     force: DVec3,
@@ -77,9 +77,9 @@ struct PointLoad {
 
 /// Candidates per block: the fixed partition of a candidate list into the
 /// pool's work items. It does not depend on the thread count (nor does any
-/// sum); 256 candidates are ~10⁵–10⁶ instructions of kernels, so a block
-/// outweighs the pool's per-item cost and 10⁴ fibres give ~400 blocks to
-/// balance the end-involved pairs' 10× cost spread.
+/// sum); 256 candidates' kernels outweigh the pool's per-item cost by far,
+/// and 10⁴ fibres still give ~400 blocks to balance the end-involved
+/// pairs' uneven costs.
 pub(super) const BLOCK: usize = 256;
 
 /// Blocks in flight: block `n` is computed into slot `n % RING` once block

@@ -45,7 +45,7 @@ fn prescribed_at<'a>(
 impl<'s> World<'s> {
     /// Advance one step with rotator `R`. The diagnosis is boxed: a stop is
     /// rare, and a one-word `Result` keeps a 100-byte copy out of every step
-    /// (10 ns of a 35 ns single-body step, `benches/rotators.rs`).
+    /// (a large share of a single-body step: `benches/rotators.rs`).
     pub fn step<R: Rotator>(&mut self) -> Result<(), Box<Diagnosis>> {
         const { assert!(super::scheme::is_valid(R::STAGES)) };
         if R::Aux::LEN > 0 && self.aux.len() != R::Aux::LEN * self.states.len() {
@@ -329,8 +329,8 @@ pub(super) fn torque_source(
     contact: DVec3,
 ) -> impl Fn(f64) -> DVec3 + '_ {
     // Inlined by force: with codegen-units = 4, where this closure lands
-    // follows the crate's layout, and a call per body-step costs the
-    // nine-fibre step ~9 % (callgrind).
+    // follows the crate's layout, and a call per body-step is a measurable
+    // share of the nine-fibre step (`cargo bench --bench contacts`).
     #[inline(always)]
     move |t| match prescribed {
         Some(p) => p.at(t) + contact,
@@ -353,9 +353,8 @@ fn fault_diagnosis(fault: RotatorFault, body: u64, step: u64, t: f64) -> Diagnos
 
 /// The step's guards and diagnoses for an MPI rank's step (`src/ranks/`),
 /// as wrappers: the originals stay private to this module, so the
-/// one-process step inlines them as before (made crate-visible, they cost
-/// it 7 % more instructions on nine_fibres: LLVM stopped inlining the
-/// torque closure).
+/// one-process step inlines them as before (made crate-visible, LLVM
+/// stopped inlining the torque closure into the one-process step).
 #[cfg(feature = "mpi")]
 pub(crate) mod for_ranks {
     use super::*;

@@ -531,7 +531,7 @@ impl<'c> RankStep<'c> {
 /// The torque a rotator asks for at `t`, as the one-process step forms it
 /// (`integrate/step.rs`): the prescribed torque, if any, plus the contact
 /// torque. (Its own copy: sharing the step's closure moved it out of the
-/// one-process loop's inlining, +7 % instructions on nine_fibres.)
+/// one-process loop's inlining.)
 #[inline]
 fn torque_source(
     prescribed: Option<&PrescribedTorque>,

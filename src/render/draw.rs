@@ -125,7 +125,7 @@ pub(crate) fn fibre(pm: &mut PixmapMut<'_>, cam: &Camera, f: &Fibre, rgb: [u8; 3
     let ends = [(x1, y1), (x2, y2)];
     let (across, along) = ((px, py), (c.abs() * ux, c.abs() * uy));
     // A darker hull 0.8 px wider under the fibre: its outline, so touching
-    // fibres of one colour stay apart (a fill: strokes cost 5x more).
+    // fibres of one colour stay apart (a fill: strokes cost far more).
     if r >= 2.0 {
         // End ellipses grown by 0.8 px on both semi-axes.
         let k = (r * c.abs() + 0.8) / (r + 0.8);

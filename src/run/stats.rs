@@ -6,7 +6,7 @@
 //! percentages are formed when asked for. `d ↦ |d/E_0| · 100` is monotone
 //! under rounding (one division and one product by constants), so the
 //! percentage of the largest deviation is the largest percentage, to the bit:
-//! the per-step path has no division (issue 10, `cargo bench --bench run`).
+//! the per-step path has no division (`cargo bench --bench run`).
 
 use crate::contact::stage::ContactStats;
 use crate::energy::Ledger;

@@ -186,7 +186,7 @@ pub struct BodySection {
 pub enum TorqueComponent {
     /// A constant, N·m.
     Number(f64),
-    /// An expression in `t` (see the README's Scenario files).
+    /// An expression in `t` (docs/guide.md, "Scenario files").
     Expr(String),
 }
 

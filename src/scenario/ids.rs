@@ -4,7 +4,7 @@
 /// Global ids by storage index. A scene whose ids are its storage indices
 /// (every `[[body]]` scene, every generated or replicated bed, every body
 /// file numbered from 0 in order) keeps only their count: the list would
-/// be 8 B per fibre of a bed's ~500 (README, "Beds", "Memory").
+/// be 8 B per fibre of a bed's ~500 (docs/performance.md, "Memory").
 /// Constructed only normalised ([`Ids::from`]), so two equal id lists are
 /// equal values.
 #[derive(Debug, Clone, PartialEq, Eq)]

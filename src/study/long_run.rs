@@ -1,4 +1,4 @@
-//! Long runs and time reversibility of every rotator (issue 14): the
+//! Long runs and time reversibility of every rotator: the
 //! torque-free asymmetric top (10⁶ steps of 1e-4 s) and the precessing fibre
 //! (10⁶ steps of 1e-5 s), each against its closed form.
 //!
@@ -17,7 +17,7 @@
 //!
 //! The table is printed by
 //! `cargo test --release --test suite free_flight::long_runs -- --ignored --nocapture`
-//! (README, Rotators beyond the paper).
+//! (docs/validation.md, "Long runs and time reversibility").
 
 use crate::integrate::rotate::RotatorKind;
 use crate::math::{geodesic_angle, to_world};

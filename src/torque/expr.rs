@@ -13,10 +13,9 @@
 //! the same operations in the same order as the tree, so the two agree to the
 //! bit (tested), at a fraction of the cost of walking boxed nodes.
 //!
-//! Why not a crate: exmex (tried first) does not read `1e5` without a custom
-//! literal matcher and costs ~50 ns per evaluation here; the tree cost ~20 ns
-//! per component beyond its libm calls, the program a few ns (see the README's
-//! benchmark table).
+//! Why not a crate: exmex does not read `1e5` without a custom literal
+//! matcher, and evaluating its tree costs more than this flat program
+//! (`benches/rotators.rs` times a step with test case 4's torque).
 
 /// A compiled expression.
 #[derive(Debug, Clone, PartialEq)]

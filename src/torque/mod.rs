@@ -2,7 +2,7 @@
 //!
 //! Each component is a constant or an expression in `t` (seconds) compiled once
 //! ([`Expr`], flattened into a [`Program`]), e.g. `"5e-4*sin(200*pi*t)"`, `"1e-5*exp(3+24*t)"`, `"1e-5*5^(52*t)"`.
-//! Cost per evaluation is measured in `benches/rotators.rs` and quoted in the README.
+//! Cost per evaluation is measured in `benches/rotators.rs` (docs/performance.md).
 //! A manufactured solution's torque ([`crate::reference::Manufactured`]) is
 //! the other source: computed from its closed form, never written by hand.
 

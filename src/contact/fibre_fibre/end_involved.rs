@@ -150,15 +150,15 @@ impl<'g> Scan<'g> {
                 .clamp(-o.half_length, o.half_length);
             (e - o.centre - t * o.axis).length() - f.radius - sag - o.radius
         };
-        // Written out: `[1.0, -1.0].map(..)` was not inlined (an array
-        // drain, ~250 instructions a scan).
+        // Written out: `[1.0, -1.0].map(..)` was not inlined (it compiled
+        // to an array drain).
         let lb_a = [lb(a, 1.0, sag_a, b), lb(a, -1.0, sag_a, b)];
         let lb_b = [lb(b, 1.0, sag_b, a), lb(b, -1.0, sag_b, a)];
         self.any_near = lb_a.iter().chain(&lb_b).any(|&x| x <= self.reach);
         // Ends first (their values tighten `reach`, their rim–side points
         // seed rim–rim), then the end pairs still within reach.
         // (Written out, in the order of the loop over (+, −) they replace:
-        // the array iterators cost ~30 instructions a loop.)
+        // the array iterators were not optimised away.)
         let rim_a0 = self.end(a, 1.0, b, lb_a[0], false);
         let rim_b0 = self.end(b, 1.0, a, lb_b[0], true);
         let rim_a1 = self.end(a, -1.0, b, lb_a[1], false);
@@ -289,8 +289,7 @@ impl<'g> Scan<'g> {
     /// A feature kernel's answer; `from_b` when the kernel's first body is
     /// B (its direction then points from A to B: the force on A is −n).
     /// Returns the kernel's support point on its first body, if any.
-    /// (Inlined: called out of line, each answer went through memory, ~30
-    /// instructions a call.)
+    /// (Inlined: called out of line, each answer went through memory.)
     #[inline(always)]
     fn feature(&mut self, st: Option<Stationary>, from_b: bool, kernel: Kernel) -> Option<DVec3> {
         let st = st?;
@@ -556,8 +555,8 @@ pub(super) fn penetration_smoothed(
 /// at full weight and answer the same from the memory, once its first test
 /// finds the capsules overlapping, which a true overlap deeper than that
 /// test's rounding ensures. `false` (nothing done: the dispatch runs)
-/// otherwise. (Out of line: inlined into the dispatch, it cost ~40
-/// instructions a fibre-step more.)
+/// otherwise. (Out of line: inlined into the dispatch, it made every
+/// dispatch dearer; `cargo bench --bench bed` measures the step.)
 #[inline(never)]
 pub(super) fn remembered_in_regime(
     a: &FibreGeom,

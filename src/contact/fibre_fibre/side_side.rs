@@ -322,7 +322,7 @@ const SOLVED_SIN2: f64 = 1e-12;
 ///   smoothly from one end to the other instead of switching (the plain
 ///   `min` made the torque jump by 2 (ℓ/2) F there, and for an exactly
 ///   parallel pair rounding picked the crossing or an end: a torque pulse of
-///   ~F ℓ/2 in one step, issue 10).
+///   ~F ℓ/2 in one step).
 ///
 /// The potential is C¹ in the pose except where the end defining an
 /// overlap end switches from A to B, and where a crossing point slides off
@@ -345,8 +345,8 @@ const SOLVED_SIN2: f64 = 1e-12;
 /// ends do not touch, else `(main, second)`: the caller weights the second
 /// contact (and, outside the interior case, the main one) by the parallel
 /// blend weight. `counters` counts the end-involved scans of the escape.
-/// (Inlined: out of line its answer went through memory, +66 instructions
-/// a crossing.)
+/// (Inlined: out of line its answer went through memory, a cost on every
+/// crossing: `cargo bench --bench kernels`, `side_side`.)
 #[inline(always)]
 pub(super) fn side_side(
     a: &FibreGeom,

@@ -2,7 +2,7 @@
 //!
 //! A diagnostic, not a scheme: with rotation frozen, the energy error of a
 //! contact scene is that of velocity Verlet and the contact model alone, which
-//! separates their share from the rotators' (README, test cases 1–2).
+//! separates their share from the rotators' (docs/validation.md, test cases 1–2).
 
 use super::{Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};

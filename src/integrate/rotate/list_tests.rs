@@ -28,7 +28,7 @@ fn documented() {
         .lines()
         .find(|l| l.contains(&format!("`{DEMO}`")))
         .map(str::to_string)
-        .expect("a row of the README table");
+        .expect("a row of the rotator table");
     assert!(row.contains(info.torque_contract), "{row}");
     // `fibresim run --help` lists it with its title, from the same data.
     use clap::CommandFactory;

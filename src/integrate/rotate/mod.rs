@@ -18,7 +18,7 @@
 //! **Adding a rotator**: one file here, implementing [`Rotator`], and one
 //! line in the `rotator_list!` call below. The list generates the module,
 //! the [`RotatorKind`] variant, `--rotator`'s values and help, `fibresim
-//! rotators`, the README table (`fibresim rotators --markdown`) and the
+//! rotators`, docs/rotators.md's table (`fibresim rotators --markdown`) and the
 //! dispatch ([`RotatorKind::visit`]); the order tests iterate it.
 //! Dispatch happens once per run, so every scheme compiles to its own loop.
 
@@ -112,8 +112,8 @@ pub(crate) const KDK_TORQUE_CONTRACT: &str =
 pub(crate) const KDK_CONTACT_CONTRACT: &str =
     "opening half-kick with the start-of-step contact torque, closing half-kick with the torque of the new configuration";
 
-/// Facts about a scheme, read by `--help`, `fibresim rotators`, the README
-/// table and the tests: the one place each is written.
+/// Facts about a scheme, read by `--help`, `fibresim rotators`, the table
+/// of docs/rotators.md and the tests: the one place each is written.
 #[derive(Debug, Clone, Copy)]
 pub struct RotatorInfo {
     /// The name `--rotator` and the scenario take.
@@ -134,7 +134,7 @@ pub struct RotatorInfo {
     pub symplectic: bool,
     /// Whether the step is time-symmetric, `Φ₋ₕ = Φₕ⁻¹`: stepping back with
     /// the angular velocity reversed returns to the start to rounding
-    /// (`tests/rotator_properties.rs`).
+    /// (`tests/suite/free_flight.rs`, `reversibility_is_as_listed`).
     pub reversible: bool,
     /// Torque evaluations per step.
     pub torque_evals: u32,
@@ -488,8 +488,8 @@ pub fn rotator_table() -> String {
     s
 }
 
-/// The README's rotator table (`fibresim rotators --markdown`), from each
-/// rotator's [`RotatorInfo`]; a test keeps the README equal to it.
+/// docs/rotators.md's rotator table (`fibresim rotators --markdown`), from
+/// each rotator's [`RotatorInfo`]; a test keeps the page equal to it.
 pub fn rotator_markdown() -> String {
     use std::fmt::Write;
     let mut s = String::from(

@@ -14,7 +14,7 @@
 //! body torque. The orientation update is exact only to `O(h³)` per step, and
 //! the torque is taken once, at `(t_n, q_n)`: we measure second order in
 //! torque-free motion and first order under a time-dependent or contact
-//! torque, like every one-stage scheme here (README, Rotators).
+//! torque, like every one-stage scheme here (docs/rotators.md).
 //! Renormalised each step, to remove a rounding bias (see `advance`).
 
 use super::{Rotator, RotatorFault, RotatorInfo};

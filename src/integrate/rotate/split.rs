@@ -38,7 +38,7 @@
 //! flow on the manufactured case after 10⁴ steps, the floor that kept
 //! `split4` from fourth order), and `ω_b` by the same factor (energy errors of
 //! 2.8e-10 on the fibre, in orientation-error-free runs). Dividing by `|q|`
-//! removes only that rounding (README, Rotators beyond the paper).
+//! removes only that rounding (docs/rotators.md, `split`).
 
 use super::{AuxState, Fsal, Rotator, RotatorFault, RotatorInfo};
 use crate::body::{Inertia, RotState};

@@ -16,8 +16,8 @@
 //!
 //! Suzuki's five-stage composition (`w = 1/(4 − 4^{1/3})`, Phys. Lett. A 146
 //! (1990) 319) has a 1/40 smaller error constant here but five evaluations;
-//! on test case 4 Yoshida's three reach a given error in less time (README,
-//! Rotators).
+//! on test case 4 Yoshida's three reach a given error in less time
+//! (docs/validation.md, "At equal run time").
 
 use super::split::SplitAux;
 use super::Split;

@@ -1,6 +1,6 @@
 //! One VTK frame of a world: every fibre a `VTK_LINE` cell between its two
-//! end-face centres, with its per-fibre cell data (the README's "VTK time
-//! series" lists the arrays, their units and their order conventions).
+//! end-face centres, with its per-fibre cell data (docs/guide.md, "The VTK
+//! time series", lists the arrays, their units and their order conventions).
 
 use super::xml::{polydata, Array, Data, PolyPiece};
 use crate::body::Shape;
@@ -44,10 +44,10 @@ pub(crate) fn frame_bytes(world: &World, contacts: &[u32]) -> Vec<u8> {
     for (i, (s, b)) in world.states.iter().zip(&scene.bodies).enumerate() {
         let (d, l) = match b.shape {
             Shape::Fibre { diameter, length } => (diameter, length),
-            // A sphere is a zero-length line at its centre (README).
+            // A sphere is a zero-length line at its centre (docs/guide.md).
             Shape::Sphere { diameter } => (diameter, 0.0),
             // A rigid body: its equivalent ellipsoid's long axis along body x
-            // (README: VTK shows it as a line of that length).
+            // (VTK shows it as a line of that length).
             Shape::Rigid { semi_axes } => (2.0 * semi_axes.y.max(semi_axes.z), 2.0 * semi_axes.x),
         };
         let q = s.rot.q;

@@ -16,7 +16,7 @@ use std::fmt::Write as _;
 
 /// Uncompressed bytes per block (VTK's default).
 pub(crate) const BLOCK: usize = 1 << 15;
-/// zlib level: 1 is the fastest (measured in `benches/frames.rs`).
+/// zlib level: 1 is the fastest (`benches/frames.rs` measures a frame).
 pub(crate) const LEVEL: u32 = 1;
 /// Files with less data than this (bytes, about 250 fibres) are written
 /// uncompressed.

@@ -44,7 +44,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 /// `--rotators` default of `fibresim converge`: every scheme, so the
-/// work–precision figure shows each one (issue 4). For `src/cli.rs`:
+/// work–precision figure shows each one; `src/cli/args.rs` uses it as
 /// `#[arg(long, default_value = crate::study::converge::DEFAULT_ROTATORS)]`.
 pub const DEFAULT_ROTATORS: &str = "all";
 
@@ -203,9 +203,8 @@ pub fn converge(scene: &Scene, opts: &ConvergeOptions) -> Result<ConvergeReport>
         .into_iter()
         .map(|p| p.expect("every job ran"))
         .collect();
-    // Timing pass, sequential: two runs sharing the 2 cores are each
-    // 1.3-1.9x slower (euler on test case 4: 105-160 ns per body-step alone,
-    // 200 ns two at once), which would bend the work-precision figure.
+    // Timing pass, sequential: two runs sharing the cores slow each other
+    // down, which would bend the work-precision figure.
     for p in &mut points {
         let s = with_params(scene, p.rotator, p.dt, t_end)?;
         (p.wall_s, p.timing_runs) = time_run(&s);

@@ -1,4 +1,4 @@
-//! `fibresim stress` (issue 5, docs/physics.md §8): every stress case × rotator over a
+//! `fibresim stress` (docs/physics.md §8, docs/stress.md): every stress case × rotator over a
 //! sweep of `δt = factor × δt_rec`, on past the hard limit, with the default
 //! guards. The library is called directly, so δt beyond `hard_limit_dt` runs.
 //!

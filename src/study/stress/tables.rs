@@ -206,7 +206,7 @@ impl StressSummary {
 }
 
 /// Markdown tables of the result: a compact one (rotators with the same
-/// result share a row; for the README) and one line per case × rotator.
+/// result share a row) and one line per case × rotator, both for docs/stress.md.
 fn markdown(r: &StressReport) -> (String, String) {
     let mut compact = String::from(
         "| case | δt_rec (s) | rotators | largest stable δt (s) | energy error at δt_rec (max over the run; spin: also L) | how the unstable runs were detected |\n|---|---|---|---|---|---|\n",

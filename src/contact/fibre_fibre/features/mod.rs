@@ -84,8 +84,9 @@ fn cap_supports(f: &FibreGeom, d: DVec3, sigma: f64) -> bool {
 
 /// Whether `f`'s support in the unit direction `d` is the rim point `p` of
 /// end `sigma`: that end faces `d`, `d` is off the cap, and `d`'s component
-/// in the rim plane points from the face centre towards `p`. (Inlined:
-/// out of line, ~1.8 calls a fibre-step in a bed cost 1.9 % of its step.)
+/// in the rim plane points from the face centre towards `p`. (Inlined: it
+/// runs about twice a fibre-step in a bed, and the call showed in the
+/// step's cost: `cargo bench --bench bed`.)
 #[inline(always)]
 fn rim_supports(f: &FibreGeom, d: DVec3, sigma: f64, p: DVec3) -> bool {
     let da = d.dot(f.axis);

@@ -74,7 +74,7 @@ pub(in crate::contact::fibre_fibre) fn rim_point_nearest_line(
 /// [`rim_point_nearest_line`]'s iteration, from the sampled start or, with
 /// `away`, from the rim point opposite `away` (the other minimum's basin).
 /// (Inlined: out of line its arguments and answer went through memory,
-/// ~40 instructions a call, and `away = None` is then folded.)
+/// and inlined `away = None` is folded.)
 #[inline(always)]
 fn rim_point_stationary(
     e: DVec3,
@@ -165,8 +165,8 @@ pub(in crate::contact::fibre_fibre) fn rim_side(
     // A face nearly flat on the side (tilted just past the dome, o's axis
     // under the face): the nearest point's direction can be supported by
     // another rim point while the distance's other local minimum, in the
-    // basin opposite, passes the same tests (in bed_10k: 42 % of the
-    // scans that fell back before). Tried only within [`FLAT_FACE_COS`]
+    // basin opposite, passes the same tests (most of the scans of
+    // `bed_10k` that could not be certified). Tried only within [`FLAT_FACE_COS`]
     // of the face normal; elsewhere an unsupported point stays
     // uncertified (the scan then falls back: a cost, not an error).
     if converged && sf * f.axis.dot(-n) > FLAT_FACE_COS && !rim_supports(f, -n, sf, p) {
