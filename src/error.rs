@@ -34,7 +34,7 @@ pub enum Error {
     #[error("run stopped: {0}")]
     Unstable(Diagnosis),
     /// Stopped by SIGINT after writing a checkpoint.
-    #[error("{} at step {} (t = {:.9e} s)", .0.kind, .0.step, .0.t)]
+    #[error("{} at step {} (t = {} s)", .0.kind, .0.step, crate::fmt::short(.0.t))]
     Interrupted(Diagnosis),
     #[error("cannot write {path}: {source}")]
     /// An output could not be written (exit 1).
@@ -61,16 +61,18 @@ impl Error {
         }
     }
 
-    /// Attach the line and column of a bad-input key found in the scenario
-    /// `text` (see `scenario::locate`); other errors pass unchanged.
-    pub fn located(self, text: &str) -> Self {
+    /// Attach the line and column of a bad-input key of the scenario file
+    /// `source`, found in its `text` (see `scenario::locate`); errors about
+    /// other files (a body file), errors already located and other errors
+    /// pass unchanged.
+    pub fn located(self, source: &str, text: &str) -> Self {
         match self {
             Error::BadInput {
                 file,
                 line: None,
                 key,
                 message,
-            } => Error::BadInput {
+            } if file == source => Error::BadInput {
                 line: crate::scenario::locate(text, &key),
                 file,
                 key,

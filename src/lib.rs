@@ -29,6 +29,7 @@ pub mod cli;
 pub mod contact;
 pub mod energy;
 pub mod error;
+pub mod fmt;
 pub mod generate;
 pub mod integrate;
 pub mod math;

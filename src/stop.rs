@@ -140,8 +140,10 @@ impl std::fmt::Display for Diagnosis {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "{} at step {} (t = {:e} s)",
-            self.kind, self.step, self.t
+            "{} at step {} (t = {} s)",
+            self.kind,
+            self.step,
+            crate::fmt::short(self.t)
         )?;
         if let Some(b) = self.body {
             write!(f, ", body {b}")?;
@@ -159,9 +161,9 @@ impl std::fmt::Display for Diagnosis {
             };
             return write!(f, ": {quantity} is {v} (must be finite)");
         }
-        write!(f, ": {quantity} = {:.6e}", self.value)?;
+        write!(f, ": {quantity} = {}", crate::fmt::short(self.value))?;
         if self.limit.is_finite() && self.limit < f64::MAX {
-            write!(f, " exceeds the limit {:.6e}", self.limit)
+            write!(f, " exceeds the limit {}", crate::fmt::short(self.limit))
         } else {
             write!(f, " is out of range")
         }

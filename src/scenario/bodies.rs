@@ -5,6 +5,7 @@ use super::check::{self, Ctx};
 use super::file::{BodySection, ScenarioFile, ShapeName};
 use crate::body::{Body, BodyState, Material, MaterialId, RotState, Shape};
 use crate::error::Result;
+use crate::fmt::short;
 use crate::torque::PrescribedTorque;
 use glam::{DQuat, DVec3};
 
@@ -40,10 +41,7 @@ pub(super) fn build_body(
     }
     for (k, given) in [("mass", b.mass.is_some()), ("inertia", b.inertia.is_some())] {
         if given {
-            return Err(cx.err(
-                &key(k),
-                format!("`{k}` is for shape = \"rigid\" only; a fibre's or a sphere's mass properties come from its size and density: remove `{k}`, or use shape = \"rigid\""),
-            ));
+            return Err(cx.err(&key(k), check::rigid_only(k)));
         }
     }
     let diameter = match b.diameter {
@@ -138,25 +136,18 @@ fn build_rigid(
 ) -> Result<(Body, BodyState, Option<PrescribedTorque>)> {
     let key = |k: &str| format!("body[{i}].{k}");
     if needs_contacts {
-        return Err(cx.err(
-            &key("shape"),
-            "rigid bodies have no contact geometry, so they are supported only in contact-free scenes (one body, no [box]); remove the [box] and the other bodies, or use fibres",
-        ));
+        return Err(cx.err(&key("shape"), check::RIGID_CONTACTS));
     }
-    for (k, given) in [
-        ("diameter", b.diameter.is_some()),
-        ("length", b.length.is_some()),
-        ("material", b.material.is_some()),
-        ("density", b.density.is_some()),
-        ("young", b.young.is_some()),
-        ("poisson", b.poisson.is_some()),
-    ] {
-        if given {
-            return Err(cx.err(
-                &key(k),
-                format!("a rigid body is given by `mass` and `inertia` only; remove `{k}`"),
-            ));
-        }
+    let given = [
+        b.diameter.is_some(),
+        b.length.is_some(),
+        b.material.is_some(),
+        b.density.is_some(),
+        b.young.is_some(),
+        b.poisson.is_some(),
+    ];
+    if let Some((k, _)) = check::NOT_FOR_RIGID.iter().zip(given).find(|(_, g)| *g) {
+        return Err(cx.err(&key(k), check::not_for_rigid(k)));
     }
     let mass = match b.mass {
         Some(m) => cx.positive(&key("mass"), m)?,
@@ -171,18 +162,8 @@ fn build_rigid(
     for (k, &m) in moments.iter().enumerate() {
         cx.positive(&key(&format!("inertia[{k}]")), m)?;
     }
-    let [a, b2, c] = moments;
-    for (lhs, rhs, text) in [
-        (b2 + c, a, "I2 + I3 >= I1"),
-        (a + c, b2, "I1 + I3 >= I2"),
-        (a + b2, c, "I1 + I2 >= I3"),
-    ] {
-        if lhs < rhs {
-            return Err(cx.err(
-                &key("inertia"),
-                format!("{moments:?} violates {text}: the principal moments of a rigid body satisfy the triangle inequalities (e.g. a solid box of sides a, b, c has I1 = m (b^2 + c^2)/12 and cyclically); check the values and their order"),
-            ));
-        }
+    if let Some(m) = check::not_inertia(moments) {
+        return Err(cx.err(&key("inertia"), m));
     }
     let shape_probe = Body::rigid(mass, DVec3::from_array(moments), 0).shape;
     let (q, x, v, omega_w) = kinematics(cx, i, b, &shape_probe)?;
@@ -245,7 +226,7 @@ fn kinematics(
         if speed >= SPEED_OF_LIGHT {
             return Err(cx.err(
                 &key(k),
-                format!("{what} {speed:e} m/s is not physical (at or above the speed of light, 3e8 m/s; fibresim is Newtonian); give a speed far below it"),
+                format!("{what} {} m/s is not physical (at or above the speed of light, 3e8 m/s; fibresim is Newtonian); give a speed far below it", short(speed)),
             ));
         }
     }

@@ -19,6 +19,7 @@ use super::ids::Ids;
 use super::SPEED_OF_LIGHT;
 use crate::body::{Body, BodyState, MaterialId, RotState, Shape};
 use crate::error::{Error, Result};
+use crate::fmt::short;
 use glam::{DQuat, DVec3};
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::io::{BufRead, Write};
@@ -44,6 +45,8 @@ pub(super) struct FileBodies {
     pub(super) ids: Vec<u64>,
     /// The file's line of each body (1-based), for messages.
     pub(super) lines: Vec<u32>,
+    /// The line of the header, for a message about a file without rows.
+    pub(super) header_line: usize,
 }
 
 /// Where a row's error is: `file:line:column: key`.
@@ -88,6 +91,7 @@ pub(super) fn read(
         initial: vec![],
         ids: vec![],
         lines: vec![],
+        header_line: 0,
     };
     // Material name → id, looked up without allocating per row.
     let mut by_name: HashMap<String, MaterialId> = HashMap::new();
@@ -98,13 +102,14 @@ pub(super) fn read(
     let mut header = false;
     loop {
         text.clear();
-        let n = r.read_until(b'\n', &mut text).map_err(|e| {
-            Error::bad(
-                shown,
-                "bodies.file",
-                format!("cannot read line {}: {e}", line + 1),
-            )
-        })?;
+        let n = r
+            .read_until(b'\n', &mut text)
+            .map_err(|e| Error::BadInput {
+                file: shown.to_string(),
+                line: Some((line + 1, 1)),
+                key: "row".into(),
+                message: format!("cannot read the line: {e}"),
+            })?;
         if n == 0 {
             break;
         }
@@ -132,6 +137,7 @@ pub(super) fn read(
                 });
             }
             header = true;
+            out.header_line = line;
             continue;
         }
         let (id, body, state) = parse_row(row, &at, named, materials, &mut by_name)?;
@@ -221,7 +227,10 @@ fn parse_row(
     let (diameter, length) = (v[13], v[14]);
     for (col, x) in [(14, diameter), (15, length)] {
         if x <= 0.0 {
-            return Err(at.err(col, format!("must be > 0 m, got {x}; give a positive size")));
+            return Err(at.err(
+                col,
+                format!("must be > 0 m, got {}; give a positive size", short(x)),
+            ));
         }
     }
     let q = DQuat::from_xyzw(v[4], v[5], v[6], v[3]);
@@ -234,7 +243,10 @@ fn parse_row(
     } else {
         return Err(at.err(
             4,
-            format!("qw,qx,qy,qz must be a unit quaternion (norm {norm}); normalise it"),
+            format!(
+                "qw,qx,qy,qz must be a unit quaternion (norm {}); normalise it",
+                short(norm)
+            ),
         ));
     };
     let shape = Shape::Fibre { diameter, length };
@@ -250,7 +262,7 @@ fn parse_row(
         ),
     ] {
         if speed >= SPEED_OF_LIGHT {
-            return Err(at.err(col, format!("{what} {speed:e} m/s is not physical (fibresim is Newtonian); give a speed far below 3e8 m/s")));
+            return Err(at.err(col, format!("{what} {} m/s is not physical (fibresim is Newtonian); give a speed far below 3e8 m/s", short(speed))));
         }
     }
     let name = fields[16];

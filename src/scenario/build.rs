@@ -9,7 +9,9 @@ use super::file::ScenarioFile;
 use super::reference::build_reference;
 use super::scene::{Prescribed, Scene, Walls};
 use super::sim::{Guards, SimParams};
+use crate::body::Shape;
 use crate::error::{Error, Result};
+use crate::fmt::{short, short3};
 use crate::integrate::rotate::RotatorKind;
 use std::path::Path;
 
@@ -41,17 +43,30 @@ pub fn parse_str(text: &str, source: &str) -> Result<Scene> {
 /// [`parse_str`], with the pre-check's warnings (see [`load_with_warnings`]).
 pub fn parse_with_warnings(text: &str, source: &str) -> Result<(Scene, Vec<String>)> {
     // Every problem the key table can judge, in one message, before serde
-    // (which stops at the first).
+    // (which stops at the first); its warnings join any error that follows,
+    // since a value in the wrong unit is often the cause.
     let warnings = super::precheck::precheck(text, source)?;
-    let raw: ScenarioFile = toml::from_str(text).map_err(|e| {
-        // toml's message carries the line, column and offending key.
-        let msg = e.to_string();
-        let msg = msg.trim_end().replace('\n', "\n  ");
-        Error::bad(source, "TOML", msg)
-    })?;
-    let mut scene = build(raw, source).map_err(|e| e.located(text))?;
-    scene.text = text.to_string();
-    Ok((scene, warnings))
+    let built = toml::from_str::<ScenarioFile>(text)
+        .map_err(|e| serde_error(&e, text, source))
+        .and_then(|raw| build(raw, source).map_err(|e| e.located(source, text)));
+    match built {
+        Ok(mut scene) => {
+            scene.text = text.to_string();
+            Ok((scene, warnings.into_iter().map(|w| w.shown).collect()))
+        }
+        Err(e) => Err(super::precheck::with_warnings(e, &warnings)),
+    }
+}
+
+/// What serde refuses after the pre-check passed it (a key in the serde
+/// mirror the key table lacks), in the one style of bad-input messages.
+fn serde_error(e: &toml::de::Error, text: &str, source: &str) -> Error {
+    Error::BadInput {
+        file: source.to_string(),
+        line: e.span().map(|s| super::locate::line_col(text, s.start)),
+        key: "TOML".into(),
+        message: e.message().trim_end().replace('\n', "; "),
+    }
 }
 
 fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
@@ -74,7 +89,11 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
             if !(min.cmplt(max).all()) {
                 return Err(cx.err(
                     "box",
-                    format!("box.min {min} must be below box.max {max} on every axis"),
+                    format!(
+                        "box.min {} must be below box.max {} on every axis",
+                        short3(min),
+                        short3(max)
+                    ),
                 ));
             }
             Some(Walls {
@@ -127,11 +146,12 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
         ids.extend(read.ids);
         file_lines = read.lines;
         if bodies.is_empty() {
-            return Err(Error::bad(
-                &body_file,
-                "bodies.file",
-                "the body file has no rows and the scene no [[body]]; add bodies",
-            ));
+            return Err(Error::BadInput {
+                file: body_file,
+                line: Some((read.header_line, 1)),
+                key: "header".into(),
+                message: "the body file has no rows after its header, and the scene no [[body]]; add a row per body".into(),
+            });
         }
     }
     let toml_count = names.len();
@@ -160,7 +180,10 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
         Some(v) => {
             return Err(cx.err(
                 "guards.start_overlap_ratio",
-                format!("must be a finite number >= 0, got {v}; give e.g. 0.01"),
+                format!(
+                    "must be a finite number >= 0, got {}; give e.g. 0.01",
+                    short(v)
+                ),
             ))
         }
         None => 0.0,
@@ -179,10 +202,13 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
                     "position",
                     2,
                     format!(
-                        "{} (bounds {lo} .. {hi}) does not fit inside the box {} .. {}; move it inside",
+                        "{} (bounds {} .. {}) does not fit inside the box {} .. {}; move it inside{}",
                         label(i),
-                        w.min,
-                        w.max
+                        short3(lo),
+                        short3(hi),
+                        short3(w.min),
+                        short3(w.max),
+                        size_hint(&b.shape)
                     ),
                 ));
             }
@@ -201,7 +227,10 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
                 None => "a wall".to_string(),
             };
             let allowed = if start_overlap > 0.0 {
-                format!(" (more than guards.start_overlap_ratio = {start_overlap} of the diameter)")
+                format!(
+                    " (more than guards.start_overlap_ratio = {} of the diameter)",
+                    short(start_overlap)
+                )
             } else {
                 String::new()
             };
@@ -210,8 +239,10 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
                 "position",
                 2,
                 format!(
-                    "{} overlaps {with} by {overlap:e} m at the start{allowed}; move the bodies apart",
-                    label(i)
+                    "{} overlaps {with} by {} m at the start{allowed}; move the bodies apart{}",
+                    label(i),
+                    short(overlap),
+                    size_hint(&bodies[i].shape)
                 ),
             ));
         }
@@ -261,6 +292,28 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
     })
 }
 
+/// `, or check its size: ...` with the unit hint of a fibre whose diameter
+/// or length lies outside the range of fibres (a size in mm makes a fibre
+/// that fits no box); nothing for a plausible size.
+fn size_hint(shape: &Shape) -> String {
+    let Shape::Fibre { diameter, length } = *shape else {
+        return String::new();
+    };
+    let hints: Vec<String> = [("diameter", diameter), ("length", length)]
+        .into_iter()
+        .filter_map(|(k, x)| {
+            super::keys::key("body", k)?
+                .unit_hint(x)
+                .map(|h| format!("{k} {h}"))
+        })
+        .collect();
+    if hints.is_empty() {
+        String::new()
+    } else {
+        format!(", or check its size: {}", hints.join("; "))
+    }
+}
+
 /// The body file `file` of the scenario `src`: relative to the scenario's
 /// folder (to the working folder for a scenario without one).
 fn body_file_path(src: &str, file: &str) -> std::path::PathBuf {
@@ -283,7 +336,7 @@ fn restitution(
         } else {
             Err(cx.err(
                 key,
-                format!("a coefficient of restitution must lie in (0, 1], got {e}; give e.g. 0.3 (1 is elastic)"),
+                format!("a coefficient of restitution must lie in (0, 1], got {}; give e.g. 0.3 (1 is elastic)", short(e)),
             ))
         }
     };

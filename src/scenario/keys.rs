@@ -8,6 +8,7 @@
 //! (`file.rs`) and the docs in step. A new key is one line in [`KEYS`] (and
 //! its serde field).
 
+use crate::fmt::short;
 use crate::integrate::rotate::RotatorKind;
 
 /// How a table appears in the file.
@@ -123,6 +124,8 @@ pub enum Kind {
     Rotator,
     /// One of the shape names.
     Shape,
+    /// One of the closed-form names.
+    ClosedForm,
     /// Text.
     Text,
 }
@@ -140,24 +143,43 @@ impl Kind {
             Kind::Direction => "[x, y, z], not zero; any length".into(),
             Kind::UnitQuaternion => "[w, x, y, z], norm 1 (± 1e-6)".into(),
             Kind::Torque => "[x, y, z]: numbers or expressions in t".into(),
-            Kind::Rotator => RotatorKind::SELECTABLE
-                .iter()
-                .map(|k| format!("`{}`", k.name()))
-                .collect::<Vec<_>>()
-                .join(", "),
-            Kind::Shape => SHAPES
-                .iter()
-                .map(|s| format!("`{s}`"))
-                .collect::<Vec<_>>()
-                .join(", "),
+            Kind::Rotator => quoted(&rotator_names()),
+            Kind::Shape => quoted(SHAPES),
+            Kind::ClosedForm => quoted(CLOSED_FORMS),
             Kind::Text => "text".into(),
+        }
+    }
+
+    /// The names an enumerated kind allows; empty for the others.
+    pub fn names(self) -> Vec<&'static str> {
+        match self {
+            Kind::Rotator => rotator_names(),
+            Kind::Shape => SHAPES.to_vec(),
+            Kind::ClosedForm => CLOSED_FORMS.to_vec(),
+            _ => vec![],
         }
     }
 }
 
-/// The shape names the pre-check knows (others are left to serde, whose
-/// message lists the variants).
+/// `a`, `b`, `c` as the reference writes them.
+fn quoted(names: &[&str]) -> String {
+    names
+        .iter()
+        .map(|s| format!("`{s}`"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The rotators a scenario may name.
+fn rotator_names() -> Vec<&'static str> {
+    RotatorKind::SELECTABLE.iter().map(|k| k.name()).collect()
+}
+
+/// The body shapes (`body.shape`).
 pub const SHAPES: &[&str] = &["fibre", "sphere", "rigid"];
+
+/// The closed forms a scene may declare (`reference.closed_form`).
+pub const CLOSED_FORMS: &[&str] = &["exp-torque-sphere", "torque-free", "manufactured"];
 
 /// What the pre-check knows about one table instance, for conditional keys.
 #[derive(Debug, Clone, Default)]
@@ -319,7 +341,7 @@ pub const KEYS: &[Key] = &[
     Key { table: "body", name: "angular_velocity", kind: Kind::Vec3, unit: "rad/s", need: Need::Optional("[0, 0, 0]"), meaning: "angular velocity, world frame", example: "[0.0, 0.0, 10.0]", typical: None },
     Key { table: "body", name: "torque", kind: Kind::Torque, unit: "N·m", need: Need::Optional("none"), meaning: "prescribed torque, world frame: numbers or expressions in t (`+ - * / ^`, `pi`, `e`, `sin cos tan exp ln sqrt abs sinh cosh tanh`)", example: "[\"5e-4*sin(200*pi*t)\", 0.0, 0.0]", typical: None },
     // [reference]
-    Key { table: "reference", name: "closed_form", kind: Kind::Text, unit: "", need: REQUIRED, meaning: "`exp-torque-sphere`: one sphere at rest under τ = A e^{Ct} â turns about â by θ(t) = A (e^{Ct} − 1 − Ct)/(I C²); `torque-free`: the exact torque-free motion of the one body from its start (regular precession, or Jacobi's elliptic functions); `manufactured`: q(t) = exp(φ u/2) q₀ exp(ψ v/2), driven by the torque it implies (the body gives no `torque` and no `angular_velocity`)", example: "\"exp-torque-sphere\"", typical: None },
+    Key { table: "reference", name: "closed_form", kind: Kind::ClosedForm, unit: "", need: REQUIRED, meaning: "`exp-torque-sphere`: one sphere at rest under τ = A e^{Ct} â turns about â by θ(t) = A (e^{Ct} − 1 − Ct)/(I C²); `torque-free`: the exact torque-free motion of the one body from its start (regular precession, or Jacobi's elliptic functions); `manufactured`: q(t) = exp(φ u/2) q₀ exp(ψ v/2), driven by the torque it implies (the body gives no `torque` and no `angular_velocity`)", example: "\"exp-torque-sphere\"", typical: None },
     Key { table: "reference", name: "axis", kind: Kind::Direction, unit: "", need: Need::When { text: "for exp-torque-sphere", when: exp_torque_sphere }, meaning: "the torque's direction â, world frame", example: "[0.0, 1.0, 0.0]", typical: None },
     Key { table: "reference", name: "a", kind: Kind::Finite, unit: "N·m", need: Need::When { text: "for exp-torque-sphere", when: exp_torque_sphere }, meaning: "A", example: "1e5", typical: None },
     Key { table: "reference", name: "c", kind: Kind::NonZero, unit: "1/s", need: Need::When { text: "for exp-torque-sphere", when: exp_torque_sphere }, meaning: "C", example: "1.0", typical: None },
@@ -340,6 +362,49 @@ pub const KEYS: &[Key] = &[
     Key { table: "guards", name: "overlap_ratio", kind: Kind::Positive, unit: "–", need: Need::Optional("0.2"), meaning: "stop when a contact overlap exceeds this fraction of the smaller diameter of the pair", example: "0.2", typical: None },
     Key { table: "guards", name: "start_overlap_ratio", kind: Kind::Finite, unit: "–", need: Need::Optional("0: no overlap at step 0"), meaning: "largest overlap, as a fraction of the thinner diameter, accepted at step 0 (the resting contacts of a settled bed)", example: "0.01", typical: None },
 ];
+
+impl Key {
+    /// The unit hint for a value `x` of this key outside its typical range:
+    /// the range, and, where a common unit would put `x` inside it, how to
+    /// write that in SI (`10` m for a fibre's diameter: "if you meant 10 mm
+    /// or 10 µm or 10 cm, write 1e-2 or 1e-5 or 1e-1"). `None` inside the
+    /// range, and for keys without one.
+    pub fn unit_hint(&self, x: f64) -> Option<String> {
+        let r = self.typical?;
+        if (r.lo..=r.hi).contains(&x) {
+            return None;
+        }
+        let shown = short(x);
+        let side = if x < r.lo { "below" } else { "above" };
+        let meant: Vec<(&str, f64)> = r
+            .units
+            .iter()
+            // Shifted in decimal, so 10 µm is 1e-5 exactly as typed.
+            .map(|&(u, p)| (u, format!("{shown}e{p}").parse::<f64>().unwrap_or(f64::NAN)))
+            .filter(|(_, si)| (r.lo..=r.hi).contains(si))
+            .collect();
+        let fix = if meant.is_empty() {
+            format!("check the value; it is read in {}", self.unit)
+        } else {
+            let said: Vec<String> = meant.iter().map(|(u, _)| format!("{shown} {u}")).collect();
+            // Written as a user would type it in the file.
+            let write: Vec<String> = meant.iter().map(|(_, si)| format!("{si:e}")).collect();
+            format!(
+                "if you meant {}, write {} (values are read in {})",
+                said.join(" or "),
+                write.join(" or "),
+                self.unit
+            )
+        };
+        Some(format!(
+            "{shown} {unit} is {side} the range of {} ({} to {} {unit}); {fix}",
+            r.what,
+            short(r.lo),
+            short(r.hi),
+            unit = self.unit,
+        ))
+    }
+}
 
 /// The keys of table `table`.
 pub fn keys_of(table: &str) -> impl Iterator<Item = &'static Key> + '_ {

@@ -57,11 +57,19 @@ pub fn locate(text: &str, key: &str) -> Option<(usize, usize)> {
             node = next;
         }
     }
-    let at = at?;
+    Some(line_col(text, at?))
+}
+
+/// 1-based line and column (in characters) of the byte `offset` of `text`.
+pub fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let mut at = offset.min(text.len());
+    while !text.is_char_boundary(at) {
+        at -= 1;
+    }
     let before = &text[..at];
     let line = before.matches('\n').count() + 1;
     let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
-    Some((line, col))
+    (line, col)
 }
 
 #[cfg(test)]

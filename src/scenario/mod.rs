@@ -18,6 +18,7 @@ mod precheck;
 pub mod reference;
 pub mod scene;
 pub mod sim;
+mod spell;
 pub mod write;
 
 pub use bodies::{aabb, SPEED_OF_LIGHT};

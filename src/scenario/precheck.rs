@@ -1,17 +1,23 @@
 //! The pre-check: a pass over the parsed TOML document, before serde, that
-//! finds every missing, mistyped or invalid key a table of known keys
-//! ([`super::keys`]) can judge, and reports them all in one message, each
-//! with `file:line:column`, its unit and the fix. It also warns (never
-//! refuses) when a material or size value lies outside the range of
-//! engineering practice, naming the unit it may have been meant in.
+//! finds every problem a table of known keys ([`super::keys`]) can judge
+//! (a table or key it does not know, with the closest known one; a key
+//! missing, mistyped or out of range; a name an enumerated key does not
+//! take; the rules that tie the keys of one body together) and reports
+//! them all in one message, in file order, each with `file:line:column`,
+//! its unit and the fix. A file that is not TOML gets its syntax error in
+//! the same style. It also warns (never refuses) when a material or size
+//! value lies outside the range of engineering practice, naming the unit
+//! it may have been meant in; the warnings join any error the load ends
+//! in, since a value in the wrong unit is often its cause.
 //!
-//! What it does not know (a table or key added to the serde mirror without
-//! a line in the key table, a shape it has no line for) it leaves to serde
-//! and to the build, which still check everything.
+//! The build still checks everything (and what needs the whole scene: the
+//! box, overlaps, the reference); serde stays behind both as a backstop.
 
 use super::check;
 use super::keys::{self, Facts, Form, Key, Kind, Need, TableSpec, TABLES};
+use super::spell;
 use crate::error::{Error, Result};
+use crate::fmt::short;
 use crate::scenario::file::TorqueComponent;
 use toml_edit::{Item, TableLike, Value};
 
@@ -21,19 +27,23 @@ struct Problem {
     message: String,
 }
 
+/// A value outside the range of engineering practice.
+pub(super) struct Warning {
+    /// `file:line:column: key: message`, as printed.
+    pub(super) shown: String,
+    /// What is implausible and the unit it may have been meant in.
+    pub(super) message: String,
+}
+
 /// Check `text` (the scenario file `source`) against the key table. `Ok`
-/// holds the warnings (`file:line:col: key: ...`); `Err` every problem in
-/// one bad-input error. A document that is not TOML passes, for serde to
-/// report with its own position.
-pub(super) fn precheck(text: &str, source: &str) -> Result<Vec<String>> {
-    let Ok(doc) = toml_edit::ImDocument::parse(text) else {
-        return Ok(vec![]);
+/// holds the warnings; `Err` every problem in one bad-input error.
+pub(super) fn precheck(text: &str, source: &str) -> Result<Vec<Warning>> {
+    let doc = match toml_edit::ImDocument::parse(text) {
+        Ok(doc) => doc,
+        Err(e) => return Err(syntax(&e, text, source)),
     };
     let root = doc.as_table();
-    let mut pass = Pass {
-        problems: vec![],
-        warnings: vec![],
-    };
+    let mut pass = Pass::default();
     let bodies: Vec<&toml_edit::Table> = root
         .get("body")
         .and_then(Item::as_array_of_tables)
@@ -44,9 +54,17 @@ pub(super) fn precheck(text: &str, source: &str) -> Result<Vec<String>> {
         .iter()
         .filter_map(|b| b.get("material").and_then(Item::as_str))
         .collect();
+    // Unknown tables first: a misspelt `[simulaton]` is named as such, not
+    // also as a missing `[simulation]`.
+    let mut meant: Vec<&str> = vec![];
+    for (name, item) in root.iter() {
+        if !TABLES.iter().any(|t| t.name == name) {
+            meant.extend(pass.unknown_root(name, item));
+        }
+    }
     for spec in TABLES {
         match root.get(spec.name) {
-            None if spec.required => pass.missing_table(spec),
+            None if spec.required && !meant.contains(&spec.name) => pass.missing_table(spec),
             None => {}
             Some(item) => pass.table(spec, item, contacts, &used),
         }
@@ -54,24 +72,36 @@ pub(super) fn precheck(text: &str, source: &str) -> Result<Vec<String>> {
     for (i, b) in bodies.iter().enumerate() {
         pass.body_rules(root, i, b, contacts);
     }
-    let locate =
-        |key: &str| super::locate(text, key).map_or(String::new(), |(l, c)| format!(":{l}:{c}"));
-    let warnings = pass
+    let at = |key: &str| super::locate(text, key);
+    let shown = |l: Option<(usize, usize)>, p: &Problem| {
+        let l = l.map_or(String::new(), |(l, c)| format!(":{l}:{c}"));
+        format!("{source}{l}: {}: {}", p.key, p.message)
+    };
+    let warnings: Vec<Warning> = pass
         .warnings
         .iter()
-        .map(|p| format!("{source}{}: {}: {}", locate(&p.key), p.key, p.message))
+        .map(|p| Warning {
+            shown: shown(at(&p.key), p),
+            message: p.message.clone(),
+        })
         .collect();
-    match pass.problems.len() {
-        0 => Ok(warnings),
-        1 => {
-            let p = &pass.problems[0];
-            Err(Error::bad(source, &p.key, &p.message).located(text))
-        }
-        n => {
+    // In file order; what has no place in the file (none so far) last.
+    let mut problems: Vec<(Option<(usize, usize)>, Problem)> =
+        pass.problems.into_iter().map(|p| (at(&p.key), p)).collect();
+    problems.sort_by_key(|(l, _)| l.unwrap_or((usize::MAX, 0)));
+    let error = match problems.as_slice() {
+        [] => return Ok(warnings),
+        [(line, p)] => Error::BadInput {
+            file: source.to_string(),
+            line: *line,
+            key: p.key.clone(),
+            message: p.message.clone(),
+        },
+        _ => {
             let mut tables: Vec<&str> = vec![];
-            for p in &pass.problems {
+            for (_, p) in &problems {
                 let t = p.key.split('.').next().unwrap_or(&p.key);
-                let t = if t.starts_with("material") {
+                let t = if t == "material" {
                     p.key.rsplit_once('.').map_or(t, |(head, _)| head)
                 } else {
                     t
@@ -80,31 +110,71 @@ pub(super) fn precheck(text: &str, source: &str) -> Result<Vec<String>> {
                     tables.push(t);
                 }
             }
-            let lines: Vec<String> = pass
-                .problems
+            let lines: Vec<String> = problems
                 .iter()
-                .map(|p| {
-                    format!(
-                        "  {source}{}: {}: {}",
-                        locate(&p.key),
-                        p.key,
-                        p.message.replace('\n', "\n    ")
-                    )
-                })
+                .map(|(l, p)| format!("  {}", shown(*l, p).replace('\n', "\n    ")))
                 .collect();
-            Err(Error::bad(
+            Error::bad(
                 source,
                 tables.join(", "),
                 format!(
-                    "{n} problems; fix them all, then run again:\n{}",
+                    "{} problems; fix them all, then run again:\n{}",
+                    problems.len(),
                     lines.join("\n")
                 ),
             )
-            .located(text))
         }
+    };
+    Err(with_warnings(error, &warnings))
+}
+
+/// `error` with the pre-check's `warnings` under it, each on its own line
+/// (but for one the message already gives: a fibre that fits no box names
+/// its size in the wrong unit itself).
+pub(super) fn with_warnings(error: Error, warnings: &[Warning]) -> Error {
+    match error {
+        Error::BadInput {
+            file,
+            line,
+            key,
+            mut message,
+        } => {
+            for w in warnings {
+                if !message.contains(&w.message) {
+                    message += &format!("\n  warning: {}", w.shown);
+                }
+            }
+            Error::BadInput {
+                file,
+                line,
+                key,
+                message,
+            }
+        }
+        e => e,
     }
 }
 
+/// A file that is not TOML: the parser's message at its line and column.
+fn syntax(e: &toml_edit::TomlError, text: &str, source: &str) -> Error {
+    let what: Vec<&str> = e
+        .message()
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect();
+    Error::BadInput {
+        file: source.to_string(),
+        line: e.span().map(|s| super::locate::line_col(text, s.start)),
+        key: "TOML".into(),
+        message: format!(
+            "{}; fix the line (https://toml.io describes the format; scenarios/ has examples)",
+            what.join(", ")
+        ),
+    }
+}
+
+#[derive(Default)]
 struct Pass {
     problems: Vec<Problem>,
     warnings: Vec<Problem>,
@@ -139,30 +209,47 @@ fn shown(item: &Item) -> String {
     }
 }
 
-/// Edit distance of two short keys (a misspelt key is a hint, not a check).
-fn distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut prev = row[0];
-        row[0] = i + 1;
-        for (j, &cb) in b.iter().enumerate() {
-            let next = (prev + usize::from(ca != cb))
-                .min(row[j] + 1)
-                .min(row[j + 1] + 1);
-            prev = row[j + 1];
-            row[j + 1] = next;
-        }
-    }
-    row[b.len()]
-}
-
 impl Pass {
     fn problem(&mut self, key: String, message: impl Into<String>) {
         self.problems.push(Problem {
             key,
             message: message.into(),
         });
+    }
+
+    /// A root item that is no table of the scene: the table it is closest
+    /// to (returned, so that table is not also reported missing), or the
+    /// table a key of that name belongs in.
+    fn unknown_root(&mut self, name: &str, item: &Item) -> Option<&'static str> {
+        let table = spell::closest(name, TABLES.iter().map(|t| t.name))
+            .and_then(|n| TABLES.iter().find(|t| t.name == n));
+        let home = keys::KEYS.iter().find(|k| k.name == name);
+        let written = match item {
+            Item::ArrayOfTables(_) => format!("[[{name}]]"),
+            Item::Table(_) => format!("[{name}]"),
+            _ => format!("`{name}`"),
+        };
+        let message = match (table, home) {
+            (Some(t), _) => format!(
+                "unknown table {written}; did you mean {}, {}?",
+                t.header(),
+                t.meaning
+            ),
+            (None, Some(k)) => format!(
+                "{written} is a key of [{}], not a table of its own; write it under [{}], e.g. `{} = {}`",
+                k.table, k.table, k.name, k.example
+            ),
+            (None, None) => format!(
+                "unknown table {written}; a scenario has the tables {} (`fibresim keys` describes them)",
+                TABLES
+                    .iter()
+                    .map(|t| t.header())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        };
+        self.problem(name.to_string(), message);
+        table.map(|t| t.name)
     }
 
     fn missing_table(&mut self, spec: &TableSpec) {
@@ -259,13 +346,40 @@ impl Pass {
         }
     }
 
-    /// Every known key of one table instance at `prefix`.
+    /// Every key of one table instance at `prefix`: those it does not
+    /// know, with the closest it knows; those it needs and lacks; and the
+    /// value of each it has.
     fn keys(&mut self, table: &str, prefix: &str, t: &dyn TableLike, facts: &Facts) {
-        let unknown: Vec<&str> = t
-            .iter()
-            .map(|(k, _)| k)
-            .filter(|k| keys::key(table, k).is_none())
-            .collect();
+        // What each unknown key was probably meant to be.
+        let mut meant: Vec<&str> = vec![];
+        for (u, _) in t.iter().filter(|(k, _)| keys::key(table, k).is_none()) {
+            let near = spell::closest(u, keys::keys_of(table).map(|k| k.name))
+                .and_then(|n| keys::key(table, n));
+            let message = match near {
+                Some(k) => {
+                    meant.push(k.name);
+                    format!(
+                        "unknown key `{u}`; did you mean `{}`, {}? e.g. `{} = {}`",
+                        k.name,
+                        describe(k),
+                        k.name,
+                        k.example
+                    )
+                }
+                None => format!(
+                    "unknown key `{u}`; the keys of {} are {} (`fibresim keys` describes them)",
+                    TABLES
+                        .iter()
+                        .find(|t| t.name == table)
+                        .map_or(format!("[{table}]"), TableSpec::header),
+                    keys::keys_of(table)
+                        .map(|k| k.name)
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            };
+            self.problem(format!("{prefix}.{u}"), message);
+        }
         for k in keys::keys_of(table) {
             let at = format!("{prefix}.{}", k.name);
             match t.get(k.name) {
@@ -275,20 +389,8 @@ impl Pass {
                         Need::Optional(_) => false,
                         Need::When { when, .. } => when(facts),
                     };
-                    if !needed {
-                    } else if let Some(u) = unknown.iter().find(|u| distance(u, k.name) <= 2) {
-                        // Said where the misspelt key is.
-                        self.problem(
-                            format!("{prefix}.{u}"),
-                            format!(
-                                "unknown field `{u}`; did you mean `{}`, {}? e.g. `{} = {}`",
-                                k.name,
-                                describe(k),
-                                k.name,
-                                k.example
-                            ),
-                        );
-                    } else {
+                    // A misspelt key was named above, with this one.
+                    if needed && !meant.contains(&k.name) {
                         self.problem(
                             at,
                             format!(
@@ -325,9 +427,10 @@ impl Pass {
                             Kind::Positive => check::not_positive(x),
                             Kind::Poisson => check::not_poisson(x),
                             Kind::Finite => (!x.is_finite())
-                                .then(|| format!("must be a finite number, got {x}")),
-                            _ => (!(x.is_finite() && x != 0.0))
-                                .then(|| format!("must be a finite number other than 0, got {x}")),
+                                .then(|| format!("must be a finite number, got {}", short(x))),
+                            _ => (!(x.is_finite() && x != 0.0)).then(|| {
+                                format!("must be a finite number other than 0, got {}", short(x))
+                            }),
                         };
                         if bad.is_none() {
                             self.typical(k, &at, x, facts);
@@ -355,17 +458,12 @@ impl Pass {
                 None => Some(wrong("four numbers [w, x, y, z]")),
                 Some(q) => check::not_unit_quaternion(q.iter().map(|c| c * c).sum::<f64>().sqrt()),
             },
-            Kind::Rotator => match v.and_then(Value::as_str) {
-                None => Some(wrong("a rotator name")),
-                Some(name) => crate::integrate::rotate::RotatorKind::from_name(name)
-                    .is_none()
-                    .then(|| check::unknown_rotator(name)),
+            Kind::Rotator | Kind::Shape | Kind::ClosedForm => match v.and_then(Value::as_str) {
+                None => Some(wrong("a name in quotes")),
+                Some(name) => {
+                    (!k.kind.names().contains(&name)).then(|| check::unknown_name(k.kind, name))
+                }
             },
-            // Shapes it has no line for are serde's to judge.
-            Kind::Shape => v
-                .and_then(Value::as_str)
-                .is_none()
-                .then(|| wrong("a shape name")),
             Kind::Text => v
                 .and_then(Value::as_str)
                 .is_none()
@@ -411,7 +509,6 @@ impl Pass {
     /// Warn when `x` lies outside the key's typical range, naming the
     /// units it would be typical in.
     fn typical(&mut self, k: &Key, at: &str, x: f64, facts: &Facts) {
-        let Some(r) = k.typical else { return };
         // Sizes are judged for fibres only (test case 3's sphere is 2 m).
         if k.table == "body"
             && matches!(k.name, "diameter" | "length")
@@ -419,36 +516,12 @@ impl Pass {
         {
             return;
         }
-        if (r.lo..=r.hi).contains(&x) {
-            return;
+        if let Some(hint) = k.unit_hint(x) {
+            self.warnings.push(Problem {
+                key: at.to_string(),
+                message: hint,
+            });
         }
-        let side = if x < r.lo { "below" } else { "above" };
-        let meant: Vec<(&str, f64)> = r
-            .units
-            .iter()
-            // Shifted in decimal, so 10 µm is 1e-5 exactly as typed.
-            .map(|&(u, p)| (u, format!("{x}e{p}").parse::<f64>().unwrap_or(f64::NAN)))
-            .filter(|(_, si)| (r.lo..=r.hi).contains(si))
-            .collect();
-        let fix = if meant.is_empty() {
-            format!("check the value; it is read in {}", k.unit)
-        } else {
-            let said: Vec<String> = meant.iter().map(|(u, _)| format!("{x} {u}")).collect();
-            let write: Vec<String> = meant.iter().map(|(_, si)| format!("{si:e}")).collect();
-            format!(
-                "if you meant {}, write {} (values are read in {})",
-                said.join(" or "),
-                write.join(" or "),
-                k.unit
-            )
-        };
-        self.warnings.push(Problem {
-            key: at.to_string(),
-            message: format!(
-                "{x} {} is {side} the range of {} ({:e} to {:e} {}); {fix}",
-                k.unit, r.what, r.lo, r.hi, k.unit
-            ),
-        });
     }
 
     /// Rules that tie keys of one body together (the build checks them too).
@@ -461,6 +534,16 @@ impl Pass {
     ) {
         let at = |k: &str| format!("body[{i}].{k}");
         let shape = b.get("shape").and_then(Item::as_str);
+        if shape == Some("rigid") {
+            self.rigid_rules(i, b, contacts);
+        } else if matches!(shape, Some("fibre" | "sphere")) {
+            for k in ["mass", "inertia"]
+                .into_iter()
+                .filter(|k| b.contains_key(k))
+            {
+                self.problem(at(k), check::rigid_only(k));
+            }
+        }
         if shape == Some("sphere") {
             if b.contains_key("length") {
                 self.problem(at("length"), check::SPHERE_LENGTH);
@@ -488,6 +571,42 @@ impl Pass {
         }
         if b.contains_key("axis") && b.contains_key("quaternion") {
             self.problem(at("axis"), check::AXIS_AND_QUATERNION);
+        }
+    }
+
+    /// The rules of a `rigid` body (the build checks them too): mass and
+    /// inertia only, no contacts, moments that a body can have.
+    fn rigid_rules(&mut self, i: usize, b: &toml_edit::Table, contacts: bool) {
+        let at = |k: &str| format!("body[{i}].{k}");
+        if contacts {
+            self.problem(at("shape"), check::RIGID_CONTACTS);
+        }
+        for k in check::NOT_FOR_RIGID {
+            if b.contains_key(k) {
+                self.problem(at(k), check::not_for_rigid(k));
+            }
+        }
+        let Some(m) = b
+            .get("inertia")
+            .and_then(Item::as_value)
+            .and_then(|v| numbers(v, 3))
+        else {
+            return;
+        };
+        if !m.iter().all(|x| x.is_finite()) {
+            return; // reported with the value
+        }
+        let mut positive = true;
+        for (k, &x) in m.iter().enumerate() {
+            if let Some(why) = check::not_positive(x) {
+                self.problem(at(&format!("inertia[{k}]")), why);
+                positive = false;
+            }
+        }
+        if positive {
+            if let Some(why) = check::not_inertia([m[0], m[1], m[2]]) {
+                self.problem(at("inertia"), why);
+            }
         }
     }
 }

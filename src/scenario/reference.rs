@@ -5,13 +5,11 @@ use super::file::ReferenceSection;
 use super::scene::Prescribed;
 use crate::body::{Body, BodyState, Shape};
 use crate::error::Result;
+use crate::fmt::short3;
 use crate::reference::{Manufactured, TorqueFree, Wave};
 use crate::torque::PrescribedTorque;
 use glam::{DQuat, DVec3};
 use std::sync::Arc;
-
-/// The `closed_form` names, for messages.
-const KNOWN: &str = "exp-torque-sphere, torque-free, manufactured";
 
 /// A closed-form orientation the scene declares (see `file::ReferenceSection`).
 #[derive(Debug, Clone, PartialEq)]
@@ -87,7 +85,7 @@ pub(super) fn build_reference(
         _ => {
             return Err(cx.err(
                 "reference.closed_form",
-                format!("unknown closed form `{kind}`; known: {KNOWN}"),
+                super::check::unknown_name(super::keys::Kind::ClosedForm, kind),
             ))
         }
     };
@@ -196,7 +194,7 @@ fn manufactured(
             "body[0].angular_velocity",
             format!(
                 "closed_form = \"manufactured\" sets the start angular velocity ({} rad/s, world); remove `angular_velocity`",
-                m.q0 * omega0
+                short3(m.q0 * omega0)
             ),
         ));
     }
@@ -250,7 +248,9 @@ fn exp_torque_sphere(
             return Err(cx.err(
                 "reference",
                 format!(
-                    "the body's torque at t = {t} is {got}, but the closed form assumes {want}"
+                    "the body's torque at t = {t} is {}, but the closed form assumes {}",
+                    short3(got),
+                    short3(want)
                 ),
             ));
         }

@@ -2,18 +2,12 @@
 
 use super::check::Ctx;
 use crate::error::{Error, Result};
+use crate::fmt::short;
 use crate::integrate::rotate::RotatorKind;
 
 /// Largest relative distance of `t_end / dt` from a whole number that is
 /// taken as rounding of the inputs (their quotient is exact to ~1e-16).
 pub const WHOLE_STEPS_TOL: f64 = 1e-9;
-
-/// `x` to 12 significant digits, shortest form (`0.49999999999999994` → `0.5`).
-fn short(x: f64) -> String {
-    format!("{x:.11e}")
-        .parse::<f64>()
-        .map_or(x.to_string(), |v| v.to_string())
-}
 
 /// Numerical parameters of a run, checked: made only by [`SimParams::new`]
 /// or [`SimParams::with_steps`].
@@ -48,7 +42,11 @@ impl SimParams {
         if dt > t_end {
             return Err(cx.err(
                 &format!("{prefix}dt"),
-                format!("dt = {dt:e} s is larger than t_end = {t_end:e} s; choose dt <= t_end"),
+                format!(
+                    "dt = {} s is larger than t_end = {} s; choose dt <= t_end",
+                    short(dt),
+                    short(t_end)
+                ),
             ));
         }
         let ratio = t_end / dt;
@@ -60,7 +58,9 @@ impl SimParams {
             return Err(cx.err(
                 &key_t,
                 format!(
-                    "t_end = {t_end:e} s is {ratio:.3} steps of dt = {dt:e} s, not a whole number; use t_end = {} s ({lo} steps) or {} s ({hi} steps), or change dt",
+                    "t_end = {} s is {ratio:.3} steps of dt = {} s, not a whole number; use t_end = {} s ({lo} steps) or {} s ({hi} steps), or change dt",
+                    short(t_end),
+                    short(dt),
                     short(lo * dt),
                     short(hi * dt)
                 ),
@@ -70,7 +70,8 @@ impl SimParams {
             return Err(cx.err(
                 &key_t,
                 format!(
-                    "{steps:e} steps is more than fibresim will run; increase dt or reduce t_end"
+                    "{} steps is more than fibresim will run; increase dt or reduce t_end",
+                    short(steps)
                 ),
             ));
         }
@@ -98,7 +99,8 @@ impl SimParams {
                 "parameters",
                 "dt",
                 format!(
-                    "need dt > 0, at least one step and every >= 1 (dt = {dt:e}, {steps} steps)"
+                    "need dt > 0, at least one step and every >= 1 (dt = {}, {steps} steps)",
+                    short(dt)
                 ),
             ));
         }

@@ -283,7 +283,7 @@ fn start_overlaps_are_accepted_up_to_the_tolerance() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2));
     assert!(
-        err.contains("more than guards.start_overlap_ratio = 0.0005"),
+        err.contains("more than guards.start_overlap_ratio = 5e-4"),
         "{err}"
     );
 }

@@ -224,11 +224,15 @@ fn expect_bad_input(text: Option<&str>, args: &[&str], needles: &[&str]) {
 
 #[test]
 fn bad_input_is_named_and_exits_2() {
-    expect_bad_input(Some("[simulation\ndt = 1"), &[], &["scene.toml", "line 1"]);
+    expect_bad_input(
+        Some("[simulation\ndt = 1"),
+        &[],
+        &["scene.toml:1:12: TOML: invalid table header"],
+    );
     expect_bad_input(
         Some(&FIBRE.replace("density", "densty")),
         &[],
-        &["scene.toml:9:1: body[0].densty: unknown field `densty`; did you mean `density`"],
+        &["scene.toml:9:1: body[0].densty: unknown key `densty`; did you mean `density`"],
     );
     expect_bad_input(
         Some(&FIBRE.replace("diameter = 0.01", "diameter = \"big\"")),

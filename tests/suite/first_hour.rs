@@ -79,7 +79,7 @@ fn invalid_values_and_misspelt_keys_are_collected() {
         "4 problems",
         "box.poisson: Poisson's ratio must lie in (-1, 0.5), got 0.7",
         "body[0].diameter: must be a finite number > 0, got -0.01",
-        "scene.toml:13:1: body[0].densty: unknown field `densty`; did you mean `density`, density (kg/m³, > 0)? e.g. `density = 1100.0`",
+        "scene.toml:13:1: body[0].densty: unknown key `densty`; did you mean `density`, density (kg/m³, > 0)? e.g. `density = 1100.0`",
         "body[0].torque[0]",
     ] {
         assert!(err.contains(needle), "lacks `{needle}`:\n{err}");
@@ -112,7 +112,7 @@ fn t_end_between_two_steps_is_refused() {
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(
-        err.contains("simulation.t_end: t_end = 5.0000033e-1 s is 500000.330 steps of dt = 1e-6 s, not a whole number; use t_end = 0.5 s (500000 steps) or 0.500001 s (500001 steps)"),
+        err.contains("simulation.t_end: t_end = 0.50000033 s is 500000.330 steps of dt = 1e-6 s, not a whole number; use t_end = 0.5 s (500000 steps) or 0.500001 s (500001 steps)"),
         "{err}"
     );
     let o = run(
@@ -211,7 +211,7 @@ fn negative_flag_values_reach_the_range_check() {
     for (args, needle) in [
         (
             vec!["run", &scene, "--dt", "-1e-6"],
-            "command line: --dt: must be a finite number > 0, got -0.000001",
+            "command line: --dt: must be a finite number > 0, got -1e-6",
         ),
         (
             vec!["run", &scene, "--t-end", "-1"],

@@ -92,13 +92,23 @@ const TOKENS: &[&str] = &[
     "0.0",
     "\"sphere\"",
     "true",
+    // Misspelt tables, keys and names, and a rigid body on the edge of
+    // its inertia check.
+    "[simulaton]\n",
+    "densty",
+    "\"fiber\"",
+    "\"rigid\"",
+    "inertia = [2e-6, 3e-6, 5e-6]\n",
 ];
 
 #[test]
 fn mutated_scenarios_never_panic() {
     let texts = scenarios();
     let tally = Tally::default();
-    let edits = prop::collection::vec((any::<prop::sample::Index>(), 0usize..22, 0u8..3), 1..6);
+    let edits = prop::collection::vec(
+        (any::<prop::sample::Index>(), 0..TOKENS.len(), 0u8..3),
+        1..6,
+    );
     TestRunner::new(Config::with_cases(MUTATED_CASES))
         .run(&(0usize..4, edits), |(which, edits)| {
             let mut text = texts[which].clone().into_bytes();

@@ -21,6 +21,7 @@ mod first_hour;
 mod free_flight;
 mod guards;
 mod loader_fuzz;
+mod messages;
 #[cfg(feature = "mpi")]
 mod mpi;
 mod plot;
