@@ -27,6 +27,8 @@ pub enum StopKind {
     Interrupted {
         /// The checkpoint written before stopping.
         checkpoint: PathBuf,
+        /// The command that continues the run from it.
+        resume: String,
     },
 }
 
@@ -87,9 +89,9 @@ impl std::fmt::Display for StopKind {
             StopKind::ScalarSingularity => {
                 f.write_str("scalar-factor singularity (tan pole of Eq. 41); reduce dt or use pcdm")
             }
-            StopKind::Interrupted { checkpoint } => write!(
+            StopKind::Interrupted { checkpoint, resume } => write!(
                 f,
-                "interrupted (SIGINT); resume with `fibresim run --resume {}`",
+                "interrupted (SIGINT); checkpoint written to {}; resume with `{resume}`",
                 checkpoint.display()
             ),
         }

@@ -14,12 +14,15 @@ Exit codes:
   0    success
   1    an output file could not be written mid-run (rows written so far are kept)
   2    bad input: malformed TOML, unknown key, wrong type, non-physical value,
-       empty scene, missing file, unwritable output folder, dt > t_end; the
-       message names the file (and line), the key and the fix
+       empty scene, missing file, unwritable output folder, an --out folder
+       that holds another run's outputs (without --force), a checkpoint whose
+       folder no longer holds what it recorded, dt > t_end; the message names
+       the file (and line), the key and the fix
   3    the run was stopped as unstable: a named diagnosis on stderr and in
        summary.json (`stopped`); every row written before the stop is kept
   130  interrupted by Ctrl-C (SIGINT): the current step finishes, a checkpoint
-       is written, outputs are flushed; continue with `run --resume`";
+       is written, outputs are flushed; the message gives the command that
+       continues the run (`run --resume` or `settle --resume`)";
 
 #[derive(Debug, Parser)]
 #[command(
@@ -194,16 +197,22 @@ pub struct SettleArgs {
     /// Write <out>/checkpoint.json every N steps (Ctrl-C always writes one).
     #[arg(long, allow_negative_numbers = true)]
     pub checkpoint_every: Option<u64>,
-    /// Continue a settle from its checkpoint (its scenario, restitution, dt, cadence and settle test; --t-end may extend it; outputs go to the checkpoint's folder unless --out).
+    /// Continue a settle from its checkpoint (its scenario, restitution, dt, cadence, settle test and end time; --t-end may change the end; outputs go to the checkpoint's folder unless --out).
     #[arg(long, conflicts_with_all = ["scenario", "dt", "every"])]
     pub resume: Option<PathBuf>,
+    /// Replace the outputs of another run in the --out folder (all of them) instead of refusing.
+    #[arg(long)]
+    pub force: bool,
+    /// Print a progress line on stderr every SECONDS [default: 5], also on a terminal (without a terminal the lines are on unless -q).
+    #[arg(long, value_name = "SECONDS", num_args = 0..=1, require_equals = true, default_missing_value = "5", conflicts_with = "quiet")]
+    pub progress: Option<f64>,
     /// Run even when dt leaves fewer than 5 steps per Hertz collision.
     #[arg(long)]
     pub allow_large_dt: bool,
     /// Impact speed for the time-step advice, m/s (instead of the per-body energy bound).
     #[arg(long)]
     pub impact_speed: Option<f64>,
-    /// No progress bar and no summary on stdout.
+    /// No progress and no summary on stdout.
     #[arg(long, short)]
     pub quiet: bool,
 }
@@ -405,10 +414,10 @@ pub struct RunArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub every: Option<u64>,
     /// Stop when the full-budget energy error exceeds this many percent [default: guards.energy_error_pct, else 10].
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "resume")]
     pub max_energy_error: Option<f64>,
     /// Stop when a contact overlap exceeds this fraction of the diameter [default: guards.overlap_ratio, else 0.2].
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "resume")]
     pub max_overlap: Option<f64>,
     /// Write a VTK frame every N steps: <out>/vtk/fibres_<step>.vtp, listed with its time in <out>/fibres.pvd (open it in ParaView), and the box in <out>/box.vtp [default: output.vtk_every, else none].
     #[arg(long, conflicts_with = "resume")]
@@ -419,16 +428,22 @@ pub struct RunArgs {
     /// Write <out>/checkpoint.json every N steps (Ctrl-C always writes one).
     #[arg(long, allow_negative_numbers = true)]
     pub checkpoint_every: Option<u64>,
-    /// Continue from a checkpoint (its scenario, dt, rotator and cadence; --t-end may extend the run; outputs go to the checkpoint's folder unless --out).
+    /// Continue from a checkpoint (its scenario, dt, rotator, cadences, guards and end time; --t-end may change the end; outputs go to the checkpoint's folder unless --out).
     #[arg(long, conflicts_with_all = ["scenario", "rotator", "dt", "every"])]
     pub resume: Option<PathBuf>,
+    /// Replace the outputs of another run in the --out folder (all of them, VTK frames included) instead of refusing.
+    #[arg(long)]
+    pub force: bool,
+    /// Print a progress line on stderr every SECONDS [default: 5], also on a terminal (without a terminal the lines are on unless -q).
+    #[arg(long, value_name = "SECONDS", num_args = 0..=1, require_equals = true, default_missing_value = "5", conflicts_with = "quiet")]
+    pub progress: Option<f64>,
     /// Run even when dt leaves fewer than 5 steps per Hertz collision (normally refused as bad input).
     #[arg(long)]
     pub allow_large_dt: bool,
     /// Time collisions at this impact speed, m/s, for the advice (instead of the per-body energy bound).
     #[arg(long)]
     pub impact_speed: Option<f64>,
-    /// No progress bar and no summary on stdout.
+    /// No progress and no summary on stdout.
     #[arg(long, short)]
     pub quiet: bool,
 }

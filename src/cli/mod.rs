@@ -159,10 +159,10 @@ fn run(mut plan: plan::RunPlan) -> Result<()> {
     for w in plan.warnings.iter().chain(&plan.advice.warnings) {
         eprintln!("warning: {w}");
     }
-    let out_dir = &plan.opts.out_dir;
-    if let Some((c, from)) = &plan.resume {
-        crate::run::copy_resume_outputs(c, from, out_dir)?;
+    for n in &plan.notes {
+        eprintln!("note: {n}");
     }
+    let out_dir = &plan.opts.out_dir;
     // Ctrl-C: finish the current step, write a checkpoint, flush, exit 130.
     let _ = ctrlc::set_handler(|| {
         crate::run::INTERRUPTED.store(true, std::sync::atomic::Ordering::Relaxed)
@@ -204,8 +204,15 @@ pub(crate) fn print_outcome(
 ) {
     match outcome {
         Ok(s) if !quiet => {
+            let resumed = match s.first_step {
+                0 => String::new(),
+                f => format!(
+                    " ({} of them in this run, from the checkpoint)",
+                    s.steps - f
+                ),
+            };
             println!(
-                "{}: {} steps of {:e} s with {} in {:.3} s ({:.1} ns per body-step) -> {}",
+                "{}: {} steps{resumed} of {:e} s with {} in {:.3} s ({:.1} ns per body-step) -> {}",
                 scene.source,
                 s.steps,
                 s.dt,
@@ -249,12 +256,12 @@ fn settle(mut plan: plan::SettlePlan) -> Result<()> {
     for w in &plan.advice.warnings {
         eprintln!("warning: {w}");
     }
+    for n in &plan.notes {
+        eprintln!("note: {n}");
+    }
     let _ = ctrlc::set_handler(|| {
         crate::run::INTERRUPTED.store(true, std::sync::atomic::Ordering::Relaxed)
     });
-    if let Some((c, from)) = &plan.resume {
-        crate::run::copy_resume_outputs(c, from, &plan.opts.out_dir)?;
-    }
     let initial = std::mem::take(&mut plan.scene.initial);
     let scene = &plan.scene;
     let resume = plan.resume.as_ref().map(|r| &r.0);
@@ -295,16 +302,36 @@ fn settle(mut plan: plan::SettlePlan) -> Result<()> {
             .file_name()
             .map_or(String::new(), |f| f.to_string_lossy().into_owned()),
     };
-    std::fs::write(&plan.write, text.to_string()).map_err(|e| Error::io(&plan.write, e))?;
+    // The body file was written under a temporary name: both files appear
+    // by rename, the body file first, so neither is left without the other.
+    let bodies_tmp = crate::output::file::temporary(&body_file);
+    let toml_tmp = crate::output::file::temporary(&plan.write);
+    let written = std::fs::write(&toml_tmp, text.to_string())
+        .map_err(|e| Error::io(&plan.write, e))
+        .and_then(|_| {
+            std::fs::rename(&bodies_tmp, &body_file).map_err(|e| Error::io(&body_file, e))
+        })
+        .and_then(|_| {
+            std::fs::rename(&toml_tmp, &plan.write).map_err(|e| Error::io(&plan.write, e))
+        });
+    if written.is_err() {
+        let _ = std::fs::remove_file(&bodies_tmp);
+        let _ = std::fs::remove_file(&toml_tmp);
+    }
+    written?;
     if !plan.quiet {
+        let resumed = match s.first_step {
+            0 => String::new(),
+            f => format!(" ({} of them in this run)", s.steps - f),
+        };
         println!(
-            "{}: {} after {} steps of {:e} s in {:.1} s ({:.3e} fibre-steps/s); kinetic energy {:.3e} J per fibre (threshold {:.3e} J), dissipated {:.4e} J\n-> {} (bodies: {}); run outputs in {}",
+            "{}: {} after {} steps{resumed} of {:e} s in {:.1} s ({:.3e} fibre-steps/s); kinetic energy {:.3e} J per fibre (threshold {:.3e} J), dissipated {:.4e} J\n-> {} (bodies: {}); run outputs in {}",
             scene.source,
             if settled { "settled" } else { "not settled by t_end" },
             s.steps,
             s.dt,
             s.wall_s,
-            s.steps as f64 * n / s.wall_s.max(1e-9),
+            s.body_steps_per_s(),
             ke / n,
             settle.ke_per_body,
             s.energy_dissipated.unwrap_or(0.0),

@@ -44,6 +44,9 @@ pub struct RunPlan {
     pub quiet: bool,
     /// The scenario's warnings (values outside engineering practice).
     pub warnings: Vec<String>,
+    /// What the run does to its folder that the user should know (the
+    /// default folder's earlier outputs replaced).
+    pub notes: Vec<String>,
 }
 
 /// `fibresim check`, checked.
@@ -166,11 +169,37 @@ impl RunArgs {
                 .join(&stem)
                 .join(scene.sim.rotator().name()),
         };
+        let given = self.out.is_some();
+        let out_dir = self.out.unwrap_or(default_out);
+        let note = out_claim(
+            &out_dir,
+            checkpoint.as_ref().zip(checkpoint_dir.as_deref()),
+            given,
+            self.force,
+        )?;
+        let mut flags = vec![];
+        if self.allow_large_dt {
+            flags.push(("--allow-large-dt", String::new()));
+        }
+        if let Some(v) = impact {
+            flags.push(("--impact-speed", crate::output::num(v)));
+        }
+        let resume_command = crate::run::resume_command(
+            "run",
+            &out_dir.join(crate::output::checkpoint::CHECKPOINT_FILE),
+            &flags,
+        );
         Ok(RunPlan {
             opts: RunOptions {
-                out_dir: self.out.unwrap_or(default_out),
+                out_dir,
                 progress: !self.quiet,
+                progress_lines: self
+                    .progress
+                    .map(|s| positive_flag("--progress", s))
+                    .transpose()?,
                 checkpoint_every: self.checkpoint_every,
+                resumed_from: checkpoint_dir.clone(),
+                resume_command: Some(resume_command),
                 ..Default::default()
             },
             resume: checkpoint.zip(checkpoint_dir),
@@ -178,6 +207,7 @@ impl RunArgs {
             advice,
             quiet: self.quiet,
             warnings,
+            notes: note.into_iter().collect(),
         })
     }
 }
@@ -511,6 +541,8 @@ pub struct SettlePlan {
     pub quiet: bool,
     /// The checkpoint to continue, and the folder it was found in.
     pub resume: Option<(Checkpoint, PathBuf)>,
+    /// What the run does to its folder that the user should know.
+    pub notes: Vec<String>,
 }
 
 /// `fibresim replicate`, checked.
@@ -575,6 +607,34 @@ fn checkpoint_dir(p: &Path) -> PathBuf {
     p.parent()
         .filter(|d| !d.as_os_str().is_empty())
         .map_or_else(|| PathBuf::from("."), PathBuf::from)
+}
+
+/// The claim of a run on its output folder `out` (`given` by `--out`):
+/// a resumed run checks that its checkpoint's folder still holds what the
+/// checkpoint recorded, and continues there freely; any other run
+/// (`folder::claim`) refuses a given folder that holds another run's
+/// outputs unless `force`, and replaces the default folder's with a note.
+fn out_claim(
+    out: &Path,
+    resume: Option<(&Checkpoint, &Path)>,
+    given: bool,
+    force: bool,
+) -> Result<Option<String>> {
+    use crate::output::folder::{claim, Claim};
+    if let Some((c, from)) = resume {
+        crate::run::check_outputs(c, from)?;
+        if crate::run::resume::same_folder(from, out) {
+            return Ok(None);
+        }
+    }
+    claim(
+        out,
+        match (force, given) {
+            (true, _) => Claim::Forced,
+            (false, true) => Claim::Given,
+            (false, false) => Claim::Default,
+        },
+    )
 }
 
 impl SettleArgs {
@@ -676,6 +736,7 @@ impl SettleArgs {
             "--write-",
         )?;
         let dir = self.resume.as_deref().map(checkpoint_dir);
+        let given = self.out.is_some();
         let out = self.out.or_else(|| dir.clone()).unwrap_or_else(|| {
             let scenario = self
                 .scenario
@@ -683,17 +744,52 @@ impl SettleArgs {
                 .expect("clap: a scenario or --resume");
             PathBuf::from("out").join(stem(scenario)).join("settle")
         });
+        let note = out_claim(
+            &out,
+            checkpoint.as_ref().zip(dir.as_deref()),
+            given,
+            self.force,
+        )?;
+        // What the resumed settle needs that its checkpoint does not keep.
+        let mut flags = vec![("--write", self.write.display().to_string())];
+        for (flag, v) in [
+            ("--write-dt", self.write_dt),
+            ("--write-t-end", self.write_t_end),
+            ("--impact-speed", impact),
+        ] {
+            if let Some(v) = v {
+                flags.push((flag, crate::output::num(v)));
+            }
+        }
+        if self.allow_large_dt {
+            flags.push(("--allow-large-dt", String::new()));
+        }
+        let resume_command = crate::run::resume_command(
+            "settle",
+            &out.join(crate::output::checkpoint::CHECKPOINT_FILE),
+            &flags,
+        );
         Ok(SettlePlan {
-            resume: checkpoint.zip(dir),
+            resume: checkpoint.zip(dir.clone()),
             opts: RunOptions {
                 out_dir: out.clone(),
                 progress: !self.quiet,
+                progress_lines: self
+                    .progress
+                    .map(|s| positive_flag("--progress", s))
+                    .transpose()?,
                 checkpoint_every,
                 settle: Some(crate::run::Settle {
                     ke_per_body: ke,
                     every: check_every,
                 }),
-                write_bodies: Some(crate::generate::body_file_of(&self.write)),
+                // Under a temporary name: `settle` renames it with the
+                // scenario that names it, so neither is left without the other.
+                write_bodies: Some(crate::output::file::temporary(
+                    &crate::generate::body_file_of(&self.write),
+                )),
+                resumed_from: dir,
+                resume_command: Some(resume_command),
             },
             scene,
             advice,
@@ -701,6 +797,7 @@ impl SettleArgs {
             write_dt,
             write_t_end,
             quiet: self.quiet,
+            notes: note.into_iter().collect(),
         })
     }
 }

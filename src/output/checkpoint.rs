@@ -1,10 +1,15 @@
 //! Checkpoints: everything needed to continue a run bit for bit.
 //!
 //! Floats are stored as their IEEE-754 bit patterns (hex), so a resumed run
-//! continues from exactly the same numbers and NaN statistics survive. The
-//! scenario text is embedded, so a later edit of the file cannot change a
-//! resumed run. Each observer records its output files with their lengths
-//! (cut back to them on resume) and its own state, by name.
+//! continues from exactly the same numbers and NaN statistics survive.
+//!
+//! A checkpoint records the run's identity: the scenario text (embedded, so
+//! a later edit of the file cannot change a resumed run) with its hash, δt,
+//! the rotator, the row cadence, the guards, the planned number of steps,
+//! the optional outputs' cadences and the settle test and restitution of a
+//! damped run. Each observer records its output files with their marks
+//! (length and tail hash, [`super::mark`]; cut back to the length on
+//! resume, refused if the bytes differ) and its own state, by name.
 //!
 //! A damped scene (`[contact] restitution < 1`) also stores what its step
 //! carries between steps beyond the states: the force stage saw the
@@ -27,7 +32,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// The format this version writes and reads.
-pub const FORMAT: &str = "fibresim-checkpoint-4";
+pub const FORMAT: &str = "fibresim-checkpoint-5";
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
 /// A checkpoint (`checkpoint.json`).
@@ -38,6 +43,9 @@ pub struct Checkpoint {
     pub scenario_source: String,
     /// The scenario text, as read.
     pub scenario_text: String,
+    /// Its 64-bit FNV-1a hash (hex): a checkpoint whose scenario was
+    /// edited after it was written is refused.
+    pub scenario_fnv: String,
     /// The rotator's name.
     pub rotator: String,
     /// δt, bits.
@@ -46,6 +54,9 @@ pub struct Checkpoint {
     pub every: u64,
     /// Guards (energy %, overlap ratio), bits.
     pub guards: [String; 2],
+    /// The steps the run was to take: a resumed run continues to them
+    /// unless `--t-end` says otherwise.
+    pub steps_planned: u64,
     /// Completed steps; the time is `step · δt` (informative copy in `t`).
     pub step: u64,
     /// The time of `step`, s (informative).
@@ -69,8 +80,9 @@ pub struct Checkpoint {
     pub aux: Vec<f64>,
     /// [`RunStats::to_array`], bits.
     pub run_stats: Vec<String>,
-    /// Each output file by name, with its length at the checkpoint.
-    pub outputs: BTreeMap<String, u64>,
+    /// Each output file by name (relative to the output folder), with its
+    /// mark at the checkpoint.
+    pub outputs: BTreeMap<String, super::mark::Mark>,
     /// Each observer's own state by its name, bits.
     pub observers: BTreeMap<String, Vec<String>>,
     /// Damped scenes only: the restitution and the damping ledger.
@@ -164,7 +176,7 @@ fn unbits_all(v: &[String], what: &str) -> Result<Vec<f64>> {
     v.iter().map(|s| unbits(s, what)).collect()
 }
 
-/// The binary states file of a checkpoint (`checkpoint.states`): the magic
+/// The binary states file of a checkpoint (`checkpoint.<step>.states`): the magic
 /// `FIBRESIM`, then little-endian `u64` body count and `u64` doubles of
 /// rotator state per body, then per body its `u64` id and 13 `f64` (x, v,
 /// q as w x y z, ω_b), then the rotator state; damped scenes then add per
@@ -333,6 +345,7 @@ impl Checkpoint {
             format: FORMAT.into(),
             scenario_source: scene.source.clone(),
             scenario_text: scene.text.clone(),
+            scenario_fnv: format!("{:016x}", states::fnv(scene.text.as_bytes())),
             rotator: R::INFO.name.into(),
             dt: bits(scene.sim.dt()),
             every: scene.sim.every_or_default(),
@@ -340,6 +353,7 @@ impl Checkpoint {
                 bits(scene.guards.energy_error_pct),
                 bits(scene.guards.overlap_ratio),
             ],
+            steps_planned: scene.sim.steps(),
             step: w.step,
             t: w.time(),
             states_file: String::new(),
@@ -361,11 +375,14 @@ impl Checkpoint {
         }
     }
 
-    /// Write the states file and then `path` (each to a temporary file,
-    /// then renamed), so an interrupt while writing never leaves a torn
-    /// checkpoint: a states file without its JSON is refused by its hash.
+    /// Write the states file ([`states_file_name`]) and then `path`, each
+    /// to a temporary name then renamed. The rename of `path` is the one
+    /// moment the checkpoint changes: a kill at any point leaves the
+    /// previous checkpoint.json with the states file it names, or the new
+    /// pair. (The states file the previous checkpoint named is removed by
+    /// [`CheckpointFile`] after the rename.)
     pub fn write(&mut self, path: &Path) -> Result<()> {
-        let states_path = path.with_extension("states");
+        let states_path = path.with_file_name(states_file_name(self.step));
         let bytes = states::encode(
             &self.ids,
             &self.states,
@@ -378,13 +395,9 @@ impl Checkpoint {
             .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
         self.states_bytes = bytes.len() as u64;
         self.states_fnv = format!("{:016x}", states::fnv(&bytes));
-        let tmp_states = path.with_extension("states.tmp");
-        std::fs::write(&tmp_states, &bytes).map_err(|e| Error::io(&tmp_states, e))?;
-        let tmp = path.with_extension("json.tmp");
         let text = serde_json::to_string_pretty(self).expect("checkpoint serialises");
-        std::fs::write(&tmp, text).map_err(|e| Error::io(&tmp, e))?;
-        std::fs::rename(&tmp_states, &states_path).map_err(|e| Error::io(&states_path, e))?;
-        std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
+        super::file::write_whole(&states_path, &bytes)?;
+        super::file::write_whole(path, text.as_bytes())
     }
 
     /// Read and check a checkpoint file and its states file.
@@ -415,13 +428,23 @@ impl Checkpoint {
                 format!("not a fibresim checkpoint: {e}; give the checkpoint.json a run wrote"),
             )
         })?;
+        if format!("{:016x}", states::fnv(c.scenario_text.as_bytes())) != c.scenario_fnv {
+            return Err(Error::bad(
+                &file,
+                "scenario_text",
+                "does not match its hash `scenario_fnv`: the checkpoint was edited after it was written; resume from the checkpoint as the run wrote it, or rerun from the start",
+            ));
+        }
         let states_path = path.with_file_name(&c.states_file);
         let where_ = states_path.display().to_string();
         let bytes = std::fs::read(&states_path).map_err(|e| {
             Error::bad(
                 &where_,
                 "states_file",
-                format!("cannot read the checkpoint's states: {e}; keep checkpoint.states beside checkpoint.json"),
+                format!(
+                    "cannot read the checkpoint's states: {e}; keep {} beside checkpoint.json",
+                    c.states_file
+                ),
             )
         })?;
         if bytes.len() as u64 != c.states_bytes
@@ -441,7 +464,7 @@ impl Checkpoint {
 
     /// The recorded length of output `name`, or a bad-input error.
     pub fn output_len(&self, name: &str) -> Result<u64> {
-        self.outputs.get(name).copied().ok_or_else(|| {
+        self.outputs.get(name).map(|m| m.bytes).ok_or_else(|| {
             Error::bad(
                 "checkpoint",
                 "outputs",
@@ -568,15 +591,47 @@ pub fn restore_damping(c: &Checkpoint, scene: &Scene) -> Result<Option<DampedSta
 /// File name of the checkpoint inside the output folder.
 pub const CHECKPOINT_FILE: &str = "checkpoint.json";
 
+/// The states file of a checkpoint taken at `step`, beside
+/// [`CHECKPOINT_FILE`]: named by its step, so that writing a checkpoint
+/// never overwrites the states file that the current checkpoint.json names.
+pub fn states_file_name(step: u64) -> String {
+    format!("checkpoint.{step}.states")
+}
+
+/// Whether `name` is a [`states_file_name`].
+pub fn is_states_file_name(name: &str) -> bool {
+    name.strip_prefix("checkpoint.")
+        .and_then(|n| n.strip_suffix(".states"))
+        .is_some_and(|step| !step.is_empty() && step.bytes().all(|b| b.is_ascii_digit()))
+}
+
 /// The observer that writes `checkpoint.json` (last in the observer list, so
 /// the checkpoint holds every other observer's part).
 pub struct CheckpointFile {
     /// `checkpoint.json` in the output folder.
     pub path: PathBuf,
+    /// The states file the current checkpoint.json names, once this run
+    /// has written or resumed one.
+    pub states_file: Option<String>,
 }
 
 impl Observer for CheckpointFile {
     fn checkpoint(&mut self, c: &mut Checkpoint) -> Result<()> {
-        c.write(&self.path)
+        c.write(&self.path)?;
+        let before = self.states_file.replace(c.states_file.clone());
+        if let Some(old) = before.filter(|old| *old != c.states_file) {
+            let old = self.path.with_file_name(old);
+            if let Err(e) = std::fs::remove_file(&old) {
+                if e.kind() != std::io::ErrorKind::NotFound {
+                    return Err(Error::io(old, e));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn resume(&mut self, c: &Checkpoint) -> Result<()> {
+        self.states_file = Some(c.states_file.clone());
+        Ok(())
     }
 }

@@ -1,8 +1,7 @@
 //! `energy.csv`: the energy ledger per output row, with Eq. 65 errors (column
 //! names are a public contract).
 
-use super::file::{csv_err, not_open, CsvFile};
-use super::Row;
+use super::file::CsvFile;
 use crate::error::Result;
 use crate::output::Checkpoint;
 use crate::run::observer::{Observer, RunEnd, View};
@@ -37,8 +36,9 @@ pub struct EnergyCsv {
     window: Window,
 }
 
-/// The observer's name in checkpoints.
-const NAME: &str = "energy.csv";
+/// The file name in the output folder, and the observer's name in checkpoints.
+pub const ENERGY_FILE: &str = "energy.csv";
+const NAME: &str = ENERGY_FILE;
 
 impl EnergyCsv {
     /// `energy.csv` in `dir`, one row per `every` steps; opened when the run
@@ -101,36 +101,32 @@ impl Observer for EnergyCsv {
         let touching = v.world.contact_stats().unwrap_or_default().touching as u64;
         let with_contacts = self.with_contacts;
         let dissipated = self.with_dissipation.then_some(l.dissipated);
-        let file = &mut self.file;
-        let path = &file.path;
-        Row::new(file.w.as_mut().ok_or_else(|| not_open(path))?)
-            .u(v.world.step)
-            .and_then(|r| r.f(v.world.time()))
-            .and_then(|r| r.f(l.gravity))
-            .and_then(|r| r.f(l.translation))
-            .and_then(|r| r.f(l.rotation))
-            .and_then(|r| r.f(l.elastic))
-            .and_then(|r| r.f(l.total()))
-            .and_then(|r| r.f(s.last_error()))
-            .and_then(|r| r.f(s.last_error_full()))
-            .and_then(|r| r.f(window))
-            .and_then(|r| r.f(window_full))
-            .and_then(|r| {
-                if with_contacts {
-                    r.u(touching)?.f(w.overlap)?;
-                }
-                if let Some(d) = dissipated {
-                    r.f(d)?;
-                }
-                r.end()
-            })
-            .map_err(|e| csv_err(path, e))?;
+        let mut r = self.file.row()?;
+        r.u(v.world.step)
+            .f(v.world.time())
+            .f(l.gravity)
+            .f(l.translation)
+            .f(l.rotation)
+            .f(l.elastic)
+            .f(l.total())
+            .f(s.last_error())
+            .f(s.last_error_full())
+            .f(window)
+            .f(window_full);
+        if with_contacts {
+            r.u(touching).f(w.overlap);
+        }
+        if let Some(d) = dissipated {
+            r.f(d);
+        }
+        r.end();
+        self.file.rows_done()?;
         self.window = Window::default();
         Ok(())
     }
 
     fn checkpoint(&mut self, c: &mut Checkpoint) -> Result<()> {
-        c.outputs.insert(self.file.name(), self.file.flushed_len()?);
+        c.outputs.insert(self.file.name(), self.file.mark()?);
         let w = self.window;
         c.observers.insert(
             NAME.into(),

@@ -9,6 +9,8 @@ pub mod checkpoint;
 pub mod contact_count;
 pub mod energy;
 pub mod file;
+pub mod folder;
+pub mod mark;
 pub mod orientation;
 pub mod progress;
 pub mod summary;
@@ -67,40 +69,62 @@ pub fn short(x: f64) -> String {
         .map_or_else(|_| num(x), num)
 }
 
-/// A CSV row builder that formats numbers without allocating.
-pub struct Row<'w, W: std::io::Write> {
-    w: &'w mut csv::Writer<W>,
+/// A CSV row builder that formats numbers without allocating: fields
+/// separated by `,`, the row ended by `\n` (numbers and column names need no
+/// quoting).
+pub struct Row<'b> {
+    out: &'b mut Vec<u8>,
+    first: bool,
     buf: ryu::Buffer,
     ibuf: itoa_like::Buf,
 }
 
-impl<'w, W: std::io::Write> Row<'w, W> {
-    /// A row builder writing into `w`.
-    pub fn new(w: &'w mut csv::Writer<W>) -> Self {
+impl<'b> Row<'b> {
+    /// A row appended to `out`.
+    pub fn new(out: &'b mut Vec<u8>) -> Self {
         Row {
-            w,
+            out,
+            first: true,
             buf: ryu::Buffer::new(),
             ibuf: itoa_like::Buf::default(),
         }
     }
 
+    /// The separator before every field but the first.
+    #[inline]
+    fn sep(&mut self) {
+        if !self.first {
+            self.out.push(b',');
+        }
+        self.first = false;
+    }
+
     #[inline]
     /// Add a float field (shortest round-trip form).
-    pub fn f(&mut self, x: f64) -> csv::Result<&mut Self> {
-        self.w.write_field(self.buf.format(x))?;
-        Ok(self)
+    pub fn f(&mut self, x: f64) -> &mut Self {
+        self.sep();
+        self.out.extend_from_slice(self.buf.format(x).as_bytes());
+        self
     }
 
     #[inline]
     /// Add an integer field.
-    pub fn u(&mut self, x: u64) -> csv::Result<&mut Self> {
-        self.w.write_field(self.ibuf.format(x))?;
-        Ok(self)
+    pub fn u(&mut self, x: u64) -> &mut Self {
+        self.sep();
+        self.out.extend_from_slice(self.ibuf.format(x));
+        self
+    }
+
+    /// Add a text field (a column name).
+    pub fn text(&mut self, s: &str) -> &mut Self {
+        self.sep();
+        self.out.extend_from_slice(s.as_bytes());
+        self
     }
 
     /// End the row.
-    pub fn end(&mut self) -> csv::Result<()> {
-        self.w.write_record(None::<&[u8]>)
+    pub fn end(&mut self) {
+        self.out.push(b'\n');
     }
 }
 

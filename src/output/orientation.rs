@@ -2,15 +2,16 @@
 //! closed-form reference, the reference quaternion and the geodesic angle
 //! to it (column names are a public contract).
 
-use super::file::{csv_err, not_open, CsvFile};
-use super::Row;
+use super::file::CsvFile;
 use crate::error::Result;
 use crate::math::{geodesic_angle, wxyz};
 use crate::output::Checkpoint;
 use crate::run::observer::{Observer, RunEnd, View};
 use glam::{DQuat, DVec3};
 
-const NAME: &str = "orientation.csv";
+/// The file name in the output folder, and the observer's name in checkpoints.
+pub const ORIENTATION_FILE: &str = "orientation.csv";
+const NAME: &str = ORIENTATION_FILE;
 
 /// The `orientation.csv` observer.
 pub struct OrientationCsv {
@@ -51,34 +52,28 @@ impl Observer for OrientationCsv {
         let (step, t) = (w.step, w.time());
         let reference = scene.reference.as_ref().map(|r| r.orientation(t));
         let with_reference = self.with_reference;
-        let file = &mut self.file;
-        let path = &file.path;
-        let out = file.w.as_mut().ok_or_else(|| not_open(path))?;
         for (s, id) in w.states.iter().zip(scene.ids.iter()) {
             let q = s.rot.q;
             let a = q * DVec3::X;
-            let write = |out: &mut csv::Writer<_>| -> csv::Result<()> {
-                let mut row = Row::new(out);
-                row.u(step)?.f(t)?.u(id)?;
-                for c in wxyz(q).into_iter().chain(a.to_array()) {
-                    row.f(c)?;
+            let mut row = self.file.row()?;
+            row.u(step).f(t).u(id);
+            for c in wxyz(q).into_iter().chain(a.to_array()) {
+                row.f(c);
+            }
+            if with_reference {
+                let r = reference.unwrap_or(DQuat::NAN);
+                for c in wxyz(r) {
+                    row.f(c);
                 }
-                if with_reference {
-                    let r = reference.unwrap_or(DQuat::NAN);
-                    for c in wxyz(r) {
-                        row.f(c)?;
-                    }
-                    row.f(geodesic_angle(q, r))?;
-                }
-                row.end()
-            };
-            write(out).map_err(|e| csv_err(path, e))?;
+                row.f(geodesic_angle(q, r));
+            }
+            row.end();
         }
-        Ok(())
+        self.file.rows_done()
     }
 
     fn checkpoint(&mut self, c: &mut Checkpoint) -> Result<()> {
-        c.outputs.insert(self.file.name(), self.file.flushed_len()?);
+        c.outputs.insert(self.file.name(), self.file.mark()?);
         Ok(())
     }
 

@@ -1,24 +1,56 @@
-//! The progress bar of a run, drawn on stderr (never when it is not a
-//! terminal: scripts and CI see nothing): the step, the simulated time,
-//! the elapsed time, the rate in steps and body-steps per second, and the
-//! time left. The rate counts only the steps of this invocation, so after
-//! `--resume` the bar starts at the checkpoint's step and its ETA is right.
+//! The progress of a run on stderr: the step, the simulated time, the
+//! elapsed time, the rate in steps and body-steps per second, and the time
+//! left. On a terminal a bar; otherwise (a batch job, a log file) a plain
+//! line every [`LINE_SECONDS`], so a long run shows that it is alive. The
+//! rate counts only the steps of this invocation, so after `--resume` the
+//! bar starts at the checkpoint's step and its ETA is right.
 
 use crate::error::Result;
 use crate::output::Checkpoint;
 use crate::run::observer::{Observer, RunEnd, View};
 use std::io::IsTerminal;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
-/// Moves a bar to the current step about 1000 times per run.
+/// Seconds between two progress lines when stderr is not a terminal.
+pub const LINE_SECONDS: f64 = 5.0;
+
+/// How the progress is drawn.
+enum Draw {
+    /// A bar (a terminal).
+    Bar(indicatif::ProgressBar),
+    /// A line every `every`, the last one at `last`.
+    Lines { every: Duration, last: Instant },
+}
+
+/// Follows a run about 1000 times over its steps, drawing a bar or lines.
 pub struct Progress {
-    bar: indicatif::ProgressBar,
+    draw: Draw,
     tick: u64,
     /// The step this invocation started from, and when.
     first: Option<(u64, Instant)>,
 }
 
 impl Progress {
+    /// The progress of a run of `steps` steps: `lines` forces a line every
+    /// that many seconds; else with `show`, a bar on a terminal and a line
+    /// every [`LINE_SECONDS`] elsewhere; else none.
+    pub fn of_run(steps: u64, show: bool, lines: Option<f64>) -> Option<Self> {
+        let every = match lines {
+            Some(s) => s,
+            None if !show => return None,
+            None if std::io::stderr().is_terminal() => return Self::terminal(steps),
+            None => LINE_SECONDS,
+        };
+        Some(Progress {
+            draw: Draw::Lines {
+                every: Duration::from_secs_f64(every.max(0.0)),
+                last: Instant::now(),
+            },
+            tick: (steps / 1000).max(1),
+            first: None,
+        })
+    }
+
     /// A bar of its own for a run of `steps` steps, if stderr is a terminal.
     pub fn terminal(steps: u64) -> Option<Self> {
         if !std::io::stderr().is_terminal() {
@@ -37,7 +69,7 @@ impl Progress {
     pub fn on(bar: indicatif::ProgressBar, steps: u64) -> Self {
         bar.set_length(steps);
         Progress {
-            bar,
+            draw: Draw::Bar(bar),
             tick: (steps / 1000).max(1),
             first: None,
         }
@@ -114,27 +146,44 @@ impl Observer for Progress {
     fn resume(&mut self, c: &Checkpoint) -> Result<()> {
         // The bar starts at the checkpoint's step; the rate counts from here.
         self.first = Some((c.step, Instant::now()));
-        self.bar.set_position(c.step);
+        if let Draw::Bar(bar) = &self.draw {
+            bar.set_position(c.step);
+        }
         Ok(())
     }
 
     fn row(&mut self, v: &View) -> Result<()> {
         let w = v.world;
         let (first, at) = *self.first.get_or_insert((w.step, Instant::now()));
-        self.bar.set_position(w.step);
-        self.bar.set_message(status(
-            first,
-            w.step,
-            w.scene.sim.steps(),
-            at.elapsed().as_secs_f64(),
-            w.scene.sim.dt(),
-            w.scene.bodies.len(),
-        ));
+        let text = || {
+            status(
+                first,
+                w.step,
+                w.scene.sim.steps(),
+                at.elapsed().as_secs_f64(),
+                w.scene.sim.dt(),
+                w.scene.bodies.len(),
+            )
+        };
+        match &mut self.draw {
+            Draw::Bar(bar) => {
+                bar.set_position(w.step);
+                bar.set_message(text());
+            }
+            // One clock read per tick (about 1000 per run).
+            Draw::Lines { every, last } if last.elapsed() >= *every => {
+                eprintln!("{}", text());
+                *last = Instant::now();
+            }
+            Draw::Lines { .. } => {}
+        }
         Ok(())
     }
 
     fn finish(&mut self, _v: &View, _end: &RunEnd) -> Result<()> {
-        self.bar.finish_and_clear();
+        if let Draw::Bar(bar) = &self.draw {
+            bar.finish_and_clear();
+        }
         Ok(())
     }
 }

@@ -1,12 +1,15 @@
 //! `summary.json`: one object per run, for scripts.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::math::wxyz;
 use crate::output::Checkpoint;
 use crate::run::observer::{Observer, RunEnd, View};
 use crate::stop::Diagnosis;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
+
+/// The file name in the output folder.
+pub const SUMMARY_FILE: &str = "summary.json";
 
 /// One body's final state (`final` in summary.json).
 #[derive(Debug, Clone, Serialize)]
@@ -36,6 +39,11 @@ pub struct Summary {
     pub steps: u64,
     /// Steps the run was to take.
     pub steps_planned: u64,
+    /// The step this invocation started from (0, or the checkpoint's):
+    /// its rates count `steps − first_step` (not written: `wall_s` and
+    /// `ns_per_body_step` already count this invocation only).
+    #[serde(skip)]
+    pub first_step: u64,
     /// Planned end time `steps_planned · dt`, s.
     pub t_end: f64,
     /// Steps between two output rows.
@@ -116,6 +124,7 @@ impl Summary {
             dt: sim.dt(),
             steps: world.step,
             steps_planned: sim.steps(),
+            first_step: end.first_step,
             t_end: sim.t_end(),
             every,
             bodies: scene.bodies.len(),
@@ -149,10 +158,17 @@ impl Summary {
         }
     }
 
-    /// Write as pretty JSON.
+    /// Write as pretty JSON (whole or absent).
     pub fn write(&self, path: &Path) -> Result<()> {
         let text = serde_json::to_string_pretty(self).expect("summary serialises");
-        std::fs::write(path, text + "\n").map_err(|e| Error::io(path, e))
+        super::file::write_whole(path, (text + "\n").as_bytes())
+    }
+
+    /// Body-steps per second of this invocation (after a resume, of the
+    /// steps it took).
+    pub fn body_steps_per_s(&self) -> f64 {
+        let steps = self.steps.saturating_sub(self.first_step) as f64;
+        steps * self.bodies as f64 / self.wall_s.max(1e-9)
     }
 }
 
@@ -171,13 +187,13 @@ pub struct SummaryJson {
 }
 
 /// Its name in checkpoints.
-const NAME: &str = "summary.json";
+const NAME: &str = SUMMARY_FILE;
 
 impl SummaryJson {
     /// `summary.json` in `dir`, for a run with rows every `every` steps.
     pub fn new(dir: &Path, every: u64) -> Self {
         SummaryJson {
-            path: dir.join("summary.json"),
+            path: dir.join(SUMMARY_FILE),
             every,
             settle: None,
             wall_before_s: 0.0,

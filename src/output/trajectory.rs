@@ -5,8 +5,7 @@
 //! `summary.json`'s `final` bit for bit (`omega` is the world-frame
 //! `q ω_b q*`; the summary keeps the body frame).
 
-use super::file::{csv_err, not_open, CsvFile};
-use super::Row;
+use super::file::CsvFile;
 use crate::error::Result;
 use crate::math::{to_world, wxyz};
 use crate::output::checkpoint::bits;
@@ -54,27 +53,21 @@ impl Observer for TrajectoryCsv {
     fn row(&mut self, v: &View) -> Result<()> {
         let w = v.world;
         let (step, t) = (w.step, w.time());
-        let file = &mut self.file;
-        let path = &file.path;
-        let out = file.w.as_mut().ok_or_else(|| not_open(path))?;
         for (s, id) in w.states.iter().zip(w.scene.ids.iter()) {
             let omega = to_world(s.rot.q, s.rot.omega_b);
-            let mut write = || -> csv::Result<()> {
-                let mut row = Row::new(out);
-                row.u(step)?.f(t)?.u(id)?;
-                let values = s.x.to_array().into_iter().chain(wxyz(s.rot.q));
-                for c in values.chain(s.v.to_array()).chain(omega.to_array()) {
-                    row.f(c)?;
-                }
-                row.end()
-            };
-            write().map_err(|e| csv_err(path, e))?;
+            let mut row = self.file.row()?;
+            row.u(step).f(t).u(id);
+            let values = s.x.to_array().into_iter().chain(wxyz(s.rot.q));
+            for c in values.chain(s.v.to_array()).chain(omega.to_array()) {
+                row.f(c);
+            }
+            row.end();
         }
-        Ok(())
+        self.file.rows_done()
     }
 
     fn checkpoint(&mut self, c: &mut Checkpoint) -> Result<()> {
-        c.outputs.insert(self.file.name(), self.file.flushed_len()?);
+        c.outputs.insert(self.file.name(), self.file.mark()?);
         c.observers
             .insert(TRAJECTORY_FILE.into(), vec![bits(self.every as f64)]);
         Ok(())

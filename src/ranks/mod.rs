@@ -94,16 +94,22 @@ fn run_ranked(
         for w in plan.warnings.iter().chain(&plan.advice.warnings) {
             eprintln!("warning: {w}");
         }
-        if let Some((c, from)) = &plan.resume {
-            crate::run::copy_resume_outputs(c, from, out_dir)?;
+        for n in &plan.notes {
+            eprintln!("note: {n}");
         }
     }
     let _ = ctrlc::set_handler(|| {
         crate::run::INTERRUPTED.store(true, std::sync::atomic::Ordering::Relaxed)
     });
     let scene = &plan.scene;
-    let progress = (root && plan.opts.progress)
-        .then(|| crate::output::Progress::terminal(scene.sim.steps()))
+    let progress = root
+        .then(|| {
+            crate::output::Progress::of_run(
+                scene.sim.steps(),
+                plan.opts.progress,
+                plan.opts.progress_lines,
+            )
+        })
         .flatten();
     let mut stepper = RankStep::new(Comm::new(world));
     let outcome = crate::run::run_by(

@@ -21,11 +21,22 @@ use std::time::Instant;
 pub struct Control {
     /// Take a checkpoint every this many steps.
     pub checkpoint_every: Option<u64>,
-    /// Stop at the next step when this flag is set (SIGINT), after a
-    /// checkpoint (to be written at the given path by the checkpoint observer).
-    pub interrupt: Option<(&'static AtomicBool, PathBuf)>,
+    /// Stop at the next step when its flag is set (SIGINT), after a
+    /// checkpoint.
+    pub interrupt: Option<Interrupt>,
     /// End the run (as if at its last step) once it has settled.
     pub settle: Option<Settle>,
+}
+
+/// What an interrupt (SIGINT) does.
+#[derive(Debug, Clone)]
+pub struct Interrupt {
+    /// Set by the signal handler.
+    pub flag: &'static AtomicBool,
+    /// The checkpoint (written by the checkpoint observer).
+    pub checkpoint: PathBuf,
+    /// The command that continues the run from it, for the message.
+    pub resume: String,
 }
 
 /// When a run has settled: its kinetic energy (translation and rotation)
@@ -261,7 +272,7 @@ fn drive_with<'s, R: Rotator, S: Stepper<'s>>(
                 observers[i].after_step(&v);
             }
         }
-        let interrupted = interrupt.is_some_and(|(flag, _)| flag.load(Ordering::Relaxed));
+        let interrupted = interrupt.is_some_and(|i| i.flag.load(Ordering::Relaxed));
         settled = control
             .settle
             .is_some_and(|s| world.step.is_multiple_of(s.every) && s.reached(&world));
@@ -317,9 +328,11 @@ fn drive_with<'s, R: Rotator, S: Stepper<'s>>(
             }
         }
         if interrupted && !last {
-            let checkpoint = interrupt.map(|(_, p)| p.clone()).unwrap_or_default();
+            let (checkpoint, resume) = interrupt
+                .map(|i| (i.checkpoint.clone(), i.resume.clone()))
+                .unwrap_or_default();
             stopped = Some(Diagnosis {
-                kind: StopKind::Interrupted { checkpoint },
+                kind: StopKind::Interrupted { checkpoint, resume },
                 step: world.step,
                 t: world.time(),
                 body: None,

@@ -6,9 +6,9 @@ pub mod observer;
 pub mod resume;
 pub mod stats;
 
-pub use driver::{drive, Control, Finished, Settle};
+pub use driver::{drive, Control, Finished, Interrupt, Settle};
 pub use observer::{EachStep, Observer, RunEnd, View};
-pub use resume::{copy_resume_outputs, scene_from_checkpoint};
+pub use resume::{check_outputs, resume_command, scene_from_checkpoint};
 
 use crate::body::BodyState;
 use crate::error::{Diagnosis, Result};
@@ -32,14 +32,24 @@ pub static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 pub struct RunOptions {
     /// Output folder.
     pub out_dir: PathBuf,
-    /// Show a progress bar (only drawn when stderr is a terminal).
+    /// Show the progress: a bar on a terminal, else a line every few
+    /// seconds ([`Progress::of_run`]).
     pub progress: bool,
+    /// A progress line every this many seconds, terminal or not (`--progress`).
+    pub progress_lines: Option<f64>,
     /// Write `checkpoint.json` every this many steps.
     pub checkpoint_every: Option<u64>,
     /// End the run once it has settled (`fibresim settle`).
     pub settle: Option<Settle>,
-    /// Write the final states of every body as a body file here.
+    /// Write the final states of every body as a body file here, once the
+    /// run has ended without a stop.
     pub write_bodies: Option<PathBuf>,
+    /// A resumed run: the folder of its checkpoint, whose outputs it
+    /// continues (copied first when `out_dir` is another folder).
+    pub resumed_from: Option<PathBuf>,
+    /// The command that continues this run after an interrupt [default:
+    /// `fibresim run --resume <out_dir>/checkpoint.json`].
+    pub resume_command: Option<String>,
 }
 
 /// Run `scene` with its rotator (`scene.sim.rotator()`), writing
@@ -61,11 +71,8 @@ pub fn run_from(
     opts: &RunOptions,
     resume: Option<&Checkpoint>,
 ) -> Result<Summary> {
-    let bar = opts
-        .progress
-        .then(|| Progress::terminal(scene.sim.steps()))
-        .flatten();
-    run_observed(scene, initial, opts, resume, bar)
+    let progress = Progress::of_run(scene.sim.steps(), opts.progress, opts.progress_lines);
+    run_observed(scene, initial, opts, resume, progress)
 }
 
 /// [`run`] drawing its progress on `bar` (e.g. one line of a study's
@@ -112,7 +119,12 @@ pub(crate) fn run_by<'s, S: driver::Stepper<'s>>(
 ) -> Result<Option<Summary>> {
     let dir = &opts.out_dir;
     if writer {
-        crate::output::create_out_dir(dir)?;
+        // No earlier run's output stays to be picked up (the command line
+        // has already refused a given folder that holds any, unless forced).
+        match resume {
+            None => crate::output::folder::clear(dir)?,
+            Some(c) => resume::continue_in(c, opts.resumed_from.as_deref().unwrap_or(dir), dir)?,
+        }
     }
     let every = scene.sim.every_or_default();
     let mut energy = EnergyCsv::new(dir, every, scene.needs_contacts())
@@ -133,6 +145,7 @@ pub(crate) fn run_by<'s, S: driver::Stepper<'s>>(
     let checkpoint_path = dir.join(CHECKPOINT_FILE);
     let mut checkpoint = CheckpointFile {
         path: checkpoint_path.clone(),
+        states_file: None,
     };
     let mut observers: Vec<&mut dyn Observer> = vec![&mut energy];
     if let Some(o) = &mut orientation {
@@ -156,9 +169,17 @@ pub(crate) fn run_by<'s, S: driver::Stepper<'s>>(
     let mut silent: Vec<&mut dyn Observer> =
         silent.iter_mut().map(|o| o as &mut dyn Observer).collect();
     let observers = if writer { &mut observers } else { &mut silent };
+    let resume_command = opts
+        .resume_command
+        .clone()
+        .unwrap_or_else(|| resume_command("run", &checkpoint_path, &[]));
     let control = Control {
         checkpoint_every: opts.checkpoint_every,
-        interrupt: Some((&INTERRUPTED, checkpoint_path)),
+        interrupt: Some(Interrupt {
+            flag: &INTERRUPTED,
+            checkpoint: checkpoint_path,
+            resume: resume_command,
+        }),
         settle: opts.settle,
     };
     let finished = driver::drive_by(scene, initial, observers, &control, resume, stepper)?;
@@ -166,12 +187,14 @@ pub(crate) fn run_by<'s, S: driver::Stepper<'s>>(
         driver::outcome(finished.stopped)?;
         return Ok(None);
     }
+    // A stopped run (a guard, an interrupt) writes no bodies: its states
+    // are not an end.
+    driver::outcome(finished.stopped)?;
     if let Some(path) = &opts.write_bodies {
         let names: Vec<String> = scene.materials.iter().map(|m| m.name.clone()).collect();
         let w = &finished.world;
         crate::scenario::body_file::write(path, &scene.ids, &scene.bodies, &w.states, &names)?;
     }
-    driver::outcome(finished.stopped)?;
     Ok(Some(summary.summary.expect(
         "the summary observer has run at the end of the drive",
     )))

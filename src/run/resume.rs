@@ -1,13 +1,19 @@
-//! Continuing a run from its checkpoint: the scene it was taken from, and its
-//! outputs when the resumed run writes into another folder.
+//! Continuing a run from its checkpoint: the scene it was taken from, the
+//! check that its folder still holds the outputs it recorded, those outputs
+//! continued in place or copied into another folder, and the command that
+//! resumes a run.
 
 use crate::error::{Error, Result};
 use crate::output::checkpoint::unbits;
+use crate::output::folder;
 use crate::output::Checkpoint;
 use crate::scenario::Scene;
+use std::io::Read;
+use std::path::Path;
 
-/// Rebuild the scene a checkpoint was taken from, with its δt, rotator, cadence,
-/// guards and restitution; `t_end` overrides the original end time.
+/// Rebuild the scene a checkpoint was taken from, with its δt, rotator,
+/// cadence, guards, restitution and planned steps; `t_end` overrides the
+/// planned end.
 pub fn scene_from_checkpoint(c: &Checkpoint, t_end: Option<f64>) -> Result<Scene> {
     let mut scene = crate::scenario::parse_str(&c.scenario_text, &c.scenario_source)?;
     let rotator =
@@ -19,16 +25,23 @@ pub fn scene_from_checkpoint(c: &Checkpoint, t_end: Option<f64>) -> Result<Scene
             )
         })?;
     let dt = unbits(&c.dt, "dt")?;
-    let t_end = t_end.unwrap_or(scene.sim.t_end());
-    scene.sim =
-        crate::scenario::SimParams::new(dt, t_end, rotator, Some(c.every), "command line", "--")?;
+    scene.sim = match t_end {
+        Some(t) => {
+            crate::scenario::SimParams::new(dt, t, rotator, Some(c.every), "command line", "--")?
+        }
+        None => {
+            crate::scenario::SimParams::with_steps(dt, c.steps_planned, rotator, Some(c.every))?
+        }
+    };
     if scene.sim.steps() < c.step {
         return Err(Error::bad(
             "command line",
             "--t-end",
             format!(
-                "the checkpoint is at step {} (t = {}), past t_end = {t_end}",
-                c.step, c.t
+                "the checkpoint is at step {} (t = {}), past t_end = {}",
+                c.step,
+                crate::output::short(c.t),
+                crate::output::short(scene.sim.t_end())
             ),
         ));
     }
@@ -42,27 +55,53 @@ pub fn scene_from_checkpoint(c: &Checkpoint, t_end: Option<f64>) -> Result<Scene
     Ok(scene)
 }
 
-/// Resuming into another folder than the checkpoint's (`--resume C --out NEW`):
-/// copy the checkpoint folder's outputs, cut to the lengths the checkpoint
-/// recorded, into `to`, where the resumed run then appends. Nothing happens
-/// when `to` is the checkpoint's folder.
-pub fn copy_resume_outputs(
-    c: &Checkpoint,
-    from: &std::path::Path,
-    to: &std::path::Path,
-) -> Result<()> {
-    use std::io::Read;
-    // Copying a folder onto itself would truncate the files it reads.
-    let same = from == to
-        || match (from.canonicalize(), to.canonicalize()) {
+/// Check, before anything runs, that the checkpoint's folder `dir` still
+/// holds every output the checkpoint recorded, with the same bytes up to
+/// its mark: another run written into the folder after the checkpoint is
+/// refused (exit 2) naming the file, and nothing is touched.
+pub fn check_outputs(c: &Checkpoint, dir: &Path) -> Result<()> {
+    for (name, mark) in &c.outputs {
+        let path = dir.join(name);
+        if let Some(why) = mark.mismatch(&path) {
+            return Err(Error::bad(
+                path.display().to_string(),
+                "--resume",
+                format!("{why}: the folder no longer holds the outputs this checkpoint continues (another run wrote there after it, or the file was changed), so resuming would mix two runs; rerun from the start, with --force to replace these outputs"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Whether two paths name the same folder.
+pub fn same_folder(a: &Path, b: &Path) -> bool {
+    a == b
+        || match (a.canonicalize(), b.canonicalize()) {
             (Ok(a), Ok(b)) => a == b,
             _ => false,
-        };
-    if same {
-        return Ok(());
+        }
+}
+
+/// Make `to` hold exactly the outputs the checkpoint `c` (found in `from`)
+/// recorded, before the resumed run appends to them: in the checkpoint's
+/// own folder, the outputs it did not record (frames written after it, the
+/// summary of the run before, states files of other checkpoints) are removed; into another folder, its
+/// earlier outputs are removed and the recorded ones copied, cut to the
+/// recorded lengths (the checkpoint's folder is left as it is).
+pub fn continue_in(c: &Checkpoint, from: &Path, to: &Path) -> Result<()> {
+    use crate::output::checkpoint::CHECKPOINT_FILE;
+    if same_folder(from, to) {
+        let keep =
+            |n: &String| c.outputs.contains_key(n) || *n == CHECKPOINT_FILE || *n == c.states_file;
+        let stale: Vec<String> = folder::outputs_in(to)?
+            .into_iter()
+            .filter(|n| !keep(n))
+            .collect();
+        return folder::remove(to, &stale);
     }
-    crate::output::create_out_dir(to)?;
-    for (name, &len) in &c.outputs {
+    folder::clear(to)?;
+    for (name, mark) in &c.outputs {
+        let len = mark.bytes;
         let src = from.join(name);
         let missing = |e: String| {
             Error::bad(
@@ -90,4 +129,52 @@ pub fn copy_resume_outputs(
         std::io::copy(&mut f.take(len), &mut w).map_err(|e| Error::io(&dst, e))?;
     }
     Ok(())
+}
+
+/// The command that resumes from `checkpoint` (`fibresim <command>
+/// --resume <checkpoint>` and the `flags` it needs), for messages; words
+/// are quoted for a POSIX shell where needed.
+pub fn resume_command(command: &str, checkpoint: &Path, flags: &[(&str, String)]) -> String {
+    let mut words = vec![
+        "fibresim".to_string(),
+        command.to_string(),
+        "--resume".into(),
+        shell_word(&checkpoint.display().to_string()),
+    ];
+    for (flag, value) in flags {
+        words.push(flag.to_string());
+        if !value.is_empty() {
+            words.push(shell_word(value));
+        }
+    }
+    words.join(" ")
+}
+
+/// `s` as one word of a POSIX shell.
+fn shell_word(s: &str) -> String {
+    let plain = |c: char| c.is_ascii_alphanumeric() || "_-./=:,+@%".contains(c);
+    if !s.is_empty() && s.chars().all(plain) {
+        s.to_string()
+    } else {
+        format!("'{}'", s.replace('\'', "'\\''"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn resume_commands_quote_what_a_shell_would_split() {
+        let c = super::resume_command(
+            "settle",
+            std::path::Path::new("out/my bed/checkpoint.json"),
+            &[
+                ("--write", "bed's.toml".into()),
+                ("--allow-large-dt", String::new()),
+            ],
+        );
+        assert_eq!(
+            c,
+            "fibresim settle --resume 'out/my bed/checkpoint.json' --write 'bed'\\''s.toml' --allow-large-dt"
+        );
+    }
 }

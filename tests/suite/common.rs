@@ -29,6 +29,13 @@ pub fn read_bytes(p: &std::path::Path) -> Vec<u8> {
     std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }
 
+/// The states file that `dir/checkpoint.json` names (`checkpoint.<step>.states`).
+pub fn states_file(dir: &std::path::Path) -> std::path::PathBuf {
+    let c: serde_json::Value =
+        serde_json::from_slice(&read_bytes(&dir.join("checkpoint.json"))).unwrap();
+    dir.join(c["states_file"].as_str().expect("a states file"))
+}
+
 /// `fibresim run --resume CHECKPOINT --t-end T -q [EXTRA…]`, required to succeed.
 pub fn resume_to(checkpoint: &std::path::Path, t_end: &str, extra: &[&str]) {
     let mut a = vec![

@@ -20,6 +20,7 @@ mod damping;
 mod first_hour;
 mod free_flight;
 mod guards;
+mod integrity;
 mod loader_fuzz;
 mod messages;
 #[cfg(feature = "mpi")]

@@ -82,7 +82,7 @@ fn bytes(dir: &Path) -> Bytes {
             .filter(|l| !l.contains("\"wall_") && !l.contains("ns_per_body_step"))
             .collect::<Vec<_>>()
             .join("\n"),
-        states: std::fs::read(dir.join("checkpoint.states")).unwrap(),
+        states: std::fs::read(common::states_file(dir)).unwrap(),
     }
 }
 

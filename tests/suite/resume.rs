@@ -3,7 +3,7 @@
 //! and after a real SIGINT.
 
 use crate::common;
-use common::{fibresim, ok, read_bytes, resume_to};
+use common::{fibresim, ok, read_bytes, resume_to, states_file};
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -253,9 +253,7 @@ fn resume_of_a_dense_scene_gives_the_same_bytes() {
     a.extend(t);
     ok(fibresim(&a));
     let ckpt = run_checkpointed(scene, &split, "3e-4", "300", &t);
-    let states = std::fs::metadata(split.join("checkpoint.states"))
-        .unwrap()
-        .len();
+    let states = std::fs::metadata(states_file(&split)).unwrap().len();
     assert!(
         states <= 200 * 384,
         "{states} bytes of states for 384 fibres"
@@ -280,7 +278,7 @@ fn a_tampered_states_file_is_refused() {
     std::fs::write(&scene, DROP).unwrap();
     let out = dir.path().join("o");
     let ckpt = run_checkpointed(scene.to_str().unwrap(), &out, "0.001", "500", &["-q"]);
-    let states = out.join("checkpoint.states");
+    let states = states_file(&out);
     let mut bytes = read_bytes(&states);
     let last = bytes.len() - 1;
     bytes[last] ^= 1;
@@ -289,7 +287,7 @@ fn a_tampered_states_file_is_refused() {
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(
-        err.contains("checkpoint.states") && err.contains("does not belong"),
+        err.contains("checkpoint.1000.states") && err.contains("does not belong"),
         "{err}"
     );
 }
@@ -362,7 +360,7 @@ fn resume_of_a_damped_bed_gives_the_same_bytes() {
         strip_timings(&split.join("summary.json")),
         strip_timings(&zero.join("summary.json"))
     );
-    let states = read_bytes(&split.join("checkpoint.states"));
+    let states = read_bytes(&states_file(&split));
     // Then the count of pair memories (u64 at the end of the per-fibre
     // part), 14 B each: most resting end-involved contacts have one.
     let at = 24 + 160 * 1000;
@@ -514,7 +512,7 @@ fn bad_damped_checkpoints_are_refused() {
             "0.5 differs from the checkpoint's restitution 0.3",
         ],
     );
-    let states_path = out.join("checkpoint.states");
+    let states_path = states_file(&out);
     let bytes = read_bytes(&states_path);
     assert_eq!(
         bytes.len(),
@@ -524,7 +522,7 @@ fn bad_damped_checkpoints_are_refused() {
     std::fs::write(&states_path, &bytes[..bytes.len() - 48]).unwrap();
     refused(
         &["run", "--resume", ck, "-q"],
-        &["checkpoint.states", "does not belong"],
+        &["checkpoint.1000.states", "does not belong"],
     );
     // The elastic layout (no pair memory), and a JSON without `damping`,
     // consistent.

@@ -14,6 +14,7 @@ pub use frame::{CELL_ARRAYS, QUATERNION_COMPONENTS};
 
 use crate::error::{Error, Result};
 use crate::output::checkpoint::bits;
+use crate::output::mark::Mark;
 use crate::output::Checkpoint;
 use crate::run::observer::{Observer, RunEnd, View};
 use pvd::Pvd;
@@ -38,8 +39,8 @@ pub struct VtkSeries {
     dir: PathBuf,
     every: u64,
     pvd: Pvd,
-    /// Files written so far (relative name, length), for checkpoints.
-    written: Vec<(String, u64)>,
+    /// Files written so far (relative name, mark), for checkpoints.
+    written: Vec<(String, Mark)>,
     /// Count each frame's contacts from its states with a stage of its own,
     /// because the world's stage does not hold every candidate (an MPI
     /// rank's holds its own fibres' and its ghosts').
@@ -63,10 +64,11 @@ impl VtkSeries {
         VtkSeries { recount, ..self }
     }
 
+    /// Write a whole file (a frame is whole or absent after a kill or a
+    /// full disk).
     fn write(&mut self, name: String, bytes: &[u8]) -> Result<()> {
-        let path = self.dir.join(&name);
-        std::fs::write(&path, bytes).map_err(|e| Error::io(&path, e))?;
-        self.written.push((name, bytes.len() as u64));
+        crate::output::file::write_whole(&self.dir.join(&name), bytes)?;
+        self.written.push((name, Mark::of_bytes(bytes)));
         Ok(())
     }
 }
@@ -102,10 +104,10 @@ impl Observer for VtkSeries {
     }
 
     fn checkpoint(&mut self, c: &mut Checkpoint) -> Result<()> {
-        for (name, len) in &self.written {
-            c.outputs.insert(name.clone(), *len);
+        for (name, mark) in &self.written {
+            c.outputs.insert(name.clone(), mark.clone());
         }
-        c.outputs.insert(PVD_FILE.into(), self.pvd.body_len);
+        c.outputs.insert(PVD_FILE.into(), self.pvd.mark()?);
         c.observers
             .insert(NAME.into(), vec![bits(self.every as f64)]);
         Ok(())
@@ -119,7 +121,7 @@ impl Observer for VtkSeries {
             .outputs
             .iter()
             .filter(|(k, _)| k.starts_with(&format!("{FRAME_DIR}/")) || k.as_str() == BOX_FILE)
-            .map(|(k, &l)| (k.clone(), l))
+            .map(|(k, m)| (k.clone(), m.clone()))
             .collect();
         Ok(())
     }

@@ -61,11 +61,27 @@ impl Pvd {
             "<DataSet timestep=\"{}\" part=\"0\" file=\"{file}\"/>\n",
             ryu::Buffer::new().format(t)
         );
-        f.seek(SeekFrom::Start(self.body_len))
+        let written = f
+            .seek(SeekFrom::Start(self.body_len))
             .and_then(|_| f.write_all(entry.as_bytes()))
-            .and_then(|_| f.write_all(TAIL.as_bytes()))
-            .map_err(|e| Error::io(path, e))?;
+            .and_then(|_| f.write_all(TAIL.as_bytes()));
+        if let Err(e) = written {
+            // A full disk: back to the entries before, closed again, so
+            // the collection stays valid XML.
+            let _ = f
+                .set_len(self.body_len)
+                .and_then(|_| f.seek(SeekFrom::Start(self.body_len)))
+                .and_then(|_| f.write_all(TAIL.as_bytes()));
+            return Err(Error::io(path, e));
+        }
         self.body_len += entry.len() as u64;
         Ok(())
+    }
+
+    /// The mark of the entries so far (without the closing tags), for a
+    /// checkpoint.
+    pub fn mark(&self) -> Result<crate::output::mark::Mark> {
+        crate::output::mark::Mark::of_file(&self.path, self.body_len)
+            .map_err(|e| Error::io(&self.path, e))
     }
 }
