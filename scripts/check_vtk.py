@@ -58,7 +58,7 @@ def main(argv):
     if argv[:1] == ["--run"]:
         binary, out = argv[1], argv[2]
         subprocess.run([binary, "run", os.path.join(ROOT, "scenarios/nine_fibres.toml"), "--vtk-every", "2000",
-                        "--t-end", "0.2", "-q", "--out", out], check=True)
+                        "--t-end", "0.2", "-q", "--out", out, "--force"], check=True)
     elif len(argv) == 1:
         out = argv[0]
     else:

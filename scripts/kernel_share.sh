@@ -18,7 +18,7 @@ mkdir -p "$dir"
 CARGO_TARGET_DIR=target/replay cargo build --release --features replay -q
 bin=target/replay/release/fibresim
 run() { # $1 = out dir; env FIBRESIM_REPLAY set by the caller
-    "$bin" run "$scene" --t-end "$t_end" --threads 1 -q --out "$1"
+    "$bin" run "$scene" --t-end "$t_end" --threads 1 -q --out "$1" --force
 }
 FIBRESIM_REPLAY="record:$dir/rec" run "$dir/record"
 sets=("none:" "passed:passed" "kept:kept" "scan:scan" "dispatch:dispatch" "all:passed,kept,scan,dispatch")

@@ -39,7 +39,7 @@ row() { # case scene ranks threads steps reference_dir
   local t_end
   t_end=$(python3 -c "print(repr($n * 1e-6))")
   rm -f "$dir.rss"
-  local cmd=(/usr/bin/time -a -o "$dir.rss" -f %M "$bin" run "$scene" --t-end "$t_end" --every "$n" --threads "$t" -q --out "$dir")
+  local cmd=(/usr/bin/time -a -o "$dir.rss" -f %M "$bin" run "$scene" --t-end "$t_end" --every "$n" --threads "$t" -q --out "$dir" --force)
   if [ "$k" -gt 1 ]; then "${mpi[@]}" -np "$k" "${cmd[@]}"; else "${cmd[@]}"; fi
   local same=na
   if [ -n "$ref" ]; then cmp -s "$ref/energy.csv" "$dir/energy.csv" && same=yes || same=NO; fi

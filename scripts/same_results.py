@@ -21,6 +21,7 @@ import hashlib
 import io
 import json
 import os
+import shutil
 import subprocess
 import sys
 
@@ -96,6 +97,8 @@ def record(binary, out):
     binary = os.path.abspath(binary)
     manifest = []
     for name, args, ok in jobs():
+        # A fresh folder per job (also for binaries without --force).
+        shutil.rmtree(os.path.join(out, name), ignore_errors=True)
         cmd = [binary] + args + ["--out", name, "-q"]  # relative: messages name the same path
         if args[0] == "run" and "--allow-large-dt" not in args:
             cmd.append("--allow-large-dt")
@@ -104,6 +107,7 @@ def record(binary, out):
         if p.returncode not in ok:
             print(f"{name}: exit {p.returncode}: {p.stderr.strip()}", file=sys.stderr)
     # Resume: a checkpointed run continued to the end writes what one run writes.
+    shutil.rmtree(os.path.join(out, "resume"), ignore_errors=True)
     subprocess.run([binary, "run", f"{SC}/nine_fibres.toml", "--t-end", "0.05", "--checkpoint-every", "200000",
                     "--out", "resume", "-q"], check=True, cwd=out)
     subprocess.run([binary, "run", "--resume", "resume/checkpoint.json", "--t-end", "0.1", "-q"],
