@@ -74,6 +74,7 @@ rotator_list! {
     direct::Direct,
     pcdm::Pcdm,
     pcdm_start::PcdmStart,
+    pcdm_staggered::PcdmStaggered,
     rk4::Rk4,
     nosquish::NoSquish,
     richardson::Richardson,
