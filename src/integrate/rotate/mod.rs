@@ -79,6 +79,7 @@ rotator_list! {
     nosquish::NoSquish,
     richardson::Richardson,
     omelyan::Omelyan,
+    cayley_cd::CayleyCd,
     fincham::Fincham,
     fincham_mid::FinchamMid,
     spiral::Spiral,
