@@ -136,9 +136,13 @@ struct Scene {
 }
 
 fn scene() -> Scene {
+    scene_with(common::packed_scene(5, 8, 8, 3e-3))
+}
+
+fn scene_with(text: String) -> Scene {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("packed.toml");
-    std::fs::write(&path, common::packed_scene(5, 8, 8, 3e-3)).unwrap();
+    std::fs::write(&path, text).unwrap();
     let root = dir.path().to_path_buf();
     Scene {
         _dir: dir,
@@ -176,8 +180,11 @@ fn one_process(s: &Scene) -> Bytes {
 }
 
 fn same_bytes_with(k: &[usize]) {
-    let s = scene();
-    let one = one_process(&s);
+    same_bytes_of(&scene(), k);
+}
+
+fn same_bytes_of(s: &Scene, k: &[usize]) {
+    let one = one_process(s);
     for &k in k {
         let out = s.root.join(format!("np{k}"));
         let mut a = vec![
@@ -203,6 +210,21 @@ fn same_bytes_with(k: &[usize]) {
 #[test]
 fn one_and_two_ranks_give_the_bytes_of_one_process() {
     same_bytes_with(&[1, 2]);
+}
+
+/// The staggered rotators' half-step state (`Rotator::Aux`) migrates with
+/// its body between ranks.
+#[test]
+fn staggered_rotators_under_two_ranks_give_the_bytes_of_one_process() {
+    for rotator in ["pcdm-staggered", "cayley-cd"] {
+        let text = common::packed_scene(5, 8, 8, 3e-3).replacen(
+            "[simulation]\n",
+            &format!("[simulation]\nrotator = \"{rotator}\"\n"),
+            1,
+        );
+        assert!(text.contains(rotator));
+        same_bytes_of(&scene_with(text), &[2]);
+    }
 }
 
 /// More ranks than the machine's two cores: run with

@@ -56,6 +56,21 @@ fn damped_output_bytes_do_not_depend_on_the_thread_count() {
     );
 }
 
+/// The staggered rotators keep per-body half-step state (`Rotator::Aux`),
+/// which the pool reads and writes in each body's own slot.
+#[test]
+fn staggered_rotators_give_the_same_bytes_with_any_thread_count() {
+    for rotator in ["pcdm-staggered", "cayley-cd"] {
+        let scene = common::packed_scene(6, 8, 8, 3e-4).replacen(
+            "[simulation]\n",
+            &format!("[simulation]\nrotator = \"{rotator}\"\n"),
+            1,
+        );
+        assert!(scene.contains(rotator));
+        same_bytes_with_any_thread_count(&scene);
+    }
+}
+
 /// A settled random bed (`scenarios/bed_1k.toml`, 100 steps): its
 /// end-involved contacts include blended ties, whose points carry the
 /// weight's couple (slots.rs keeps those apart), which the lattice above
