@@ -19,7 +19,7 @@
 # OUT/medians.csv.
 # A failed job keeps its row (status column) and makes the exit status 1.
 set -uo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/.." || exit 2
 repo=$PWD
 peers=$repo/peers
 
@@ -83,7 +83,7 @@ rounds=${rounds:-8} steps=${steps:-2000} warmup=${warmup:-200}
 for pair in "rounds:$rounds" "steps:$steps" "warmup:$warmup" "pause:$pause"; do
   [[ ${pair#*:} =~ ^[0-9]+$ ]] || die 2 "--${pair%%:*} '${pair#*:}': give a whole number"
 done
-[ "$rounds" -ge 1 ] && [ "$steps" -ge 1 ] || die 2 "--rounds and --steps must be at least 1"
+if [ "$rounds" -lt 1 ] || [ "$steps" -lt 1 ]; then die 2 "--rounds and --steps must be at least 1"; fi
 IFS=, read -r -a ns <<<"$threads"
 for n in "${ns[@]}"; do
   [[ $n =~ ^[1-9][0-9]*$ ]] || die 2 "--threads '$threads': give counts like 1,2"
@@ -116,8 +116,9 @@ if [ ${#need_pkgs[@]} -gt 0 ]; then
     die 2 "missing: ${need_pkgs[*]}; run as root, or install them with 'apt-get install -y ${need_pkgs[*]}'"
   fi
   echo "installing ${need_pkgs[*]} (Debian packages; OpenMPI comes with them)"
-  $sudo apt-get update -q && DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q "${need_pkgs[@]}" ||
+  if ! { $sudo apt-get update -q && DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q "${need_pkgs[@]}"; }; then
     die 1 "apt-get install ${need_pkgs[*]} failed"
+  fi
 fi
 mpi=(mpirun)
 [ "$(id -u)" = 0 ] && mpi+=(--allow-run-as-root)
@@ -157,7 +158,8 @@ if has chute; then
     done
   fi
   if [ -n "$chute_dir" ] && [ -f "$chute_dir/in.chute" ] && { [ -f "$chute_dir/data.chute" ] || [ -f "$chute_dir/data.chute.gz" ]; }; then
-    mkdir -p "$cache/chute" && cp "$chute_dir/in.chute" "$cache/chute/" || die 2 "cannot copy the chute inputs to $cache/chute"
+    mkdir -p "$cache/chute" || die 2 "--cache $cache: cannot create $cache/chute"
+    cp "$chute_dir/in.chute" "$cache/chute/" || die 2 "cannot copy the chute inputs to $cache/chute"
     if [ -f "$chute_dir/data.chute" ]; then cp "$chute_dir/data.chute" "$cache/chute/"; else gunzip -c "$chute_dir/data.chute.gz" >"$cache/chute/data.chute"; fi
   else
     [ -n "$chute_dir" ] && echo "peers.sh: --chute-dir $chute_dir: no in.chute and data.chute there" >&2
@@ -165,6 +167,7 @@ if has chute; then
     codes=${codes//chute/}
   fi
 fi
+has liggghts || has lammps || has fibresim || has chute || die 2 "nothing left to run (--codes $codes)"
 
 # ---- 3. fibresim ---------------------------------------------------------------
 fibresim=$repo/target/release/fibresim
@@ -204,6 +207,8 @@ job() {
   python3 "$repo/scripts/peers_report.py" row "$csv" "$r" "$code" "$n" "$d" "$rc" "$l1" "$l5" "$l15"
   sleep "$pause"
 }
+# The functions below are called through `job`.
+# shellcheck disable=SC2317,SC2016
 # The MPI launch of a peer: each rank under its own /usr/bin/time (per-rank RSS).
 peer() { # n binary args...
   local n=$1
@@ -217,6 +222,7 @@ peer() { # n binary args...
   fi
 }
 # The chute reads data.chute from the folder it runs in.
+# shellcheck disable=SC2317
 chute() {
   ln -sf "$cache/chute/data.chute" data.chute && peer 1 lmp -in "$cache/chute/in.chute"
 }

@@ -145,6 +145,9 @@ def fmt(x, d=3):
 
 def report(args):
     csv_path, outdir = args
+    if not os.path.exists(csv_path):
+        print(f"no job wrote a row ({csv_path} is missing)", file=sys.stderr)
+        return 1
     with open(csv_path, newline="") as f:
         rows = list(csv.DictReader(f))
     ok = [r for r in rows if r["status"] == "ok"]
