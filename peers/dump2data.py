@@ -25,7 +25,7 @@ import sys
 SPHERES = 4
 DIAMETER = 0.01
 END_SPAN = 0.02  # distance between the end spheres' centres, m
-TOL = 1e-6  # m; the dump prints positions to about 1e-9 m
+TOL = 1e-6  # m: far above the full-precision dump's rounding, far below a sphere's size
 
 
 def fail(path, line, what, fix):
