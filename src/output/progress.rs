@@ -22,7 +22,8 @@ enum Draw {
     Lines { every: Duration, last: Instant },
 }
 
-/// Follows a run about 1000 times over its steps, drawing a bar or lines.
+/// Follows a run about 1000 times over its steps (more often on long runs,
+/// see [`tick`]), drawing a bar or lines.
 pub struct Progress {
     draw: Draw,
     tick: u64,
@@ -46,7 +47,7 @@ impl Progress {
                 every: Duration::from_secs_f64(every.max(0.0)),
                 last: Instant::now(),
             },
-            tick: (steps / 1000).max(1),
+            tick: tick(steps),
             first: None,
         })
     }
@@ -70,11 +71,23 @@ impl Progress {
         bar.set_length(steps);
         Progress {
             draw: Draw::Bar(bar),
-            tick: (steps / 1000).max(1),
+            tick: tick(steps),
             first: None,
         }
     }
 }
+
+/// The steps between two looks at the clock: about 1000 looks per run, but
+/// never more than [`MAX_TICK`] steps apart, so that a long run of a large
+/// scene (a bed steps about a hundred times a second) still draws a line
+/// every few seconds.
+fn tick(steps: u64) -> u64 {
+    (steps / 1000).clamp(1, MAX_TICK)
+}
+
+/// See [`tick`]: a look costs one clock read, a few hundred steps of even
+/// a one-body scene cost far more.
+const MAX_TICK: u64 = 256;
 
 /// `h:mm:ss`.
 fn clock(seconds: f64) -> String {
@@ -170,7 +183,7 @@ impl Observer for Progress {
                 bar.set_position(w.step);
                 bar.set_message(text());
             }
-            // One clock read per tick (about 1000 per run).
+            // One clock read per tick.
             Draw::Lines { every, last } if last.elapsed() >= *every => {
                 eprintln!("{}", text());
                 *last = Instant::now();
