@@ -350,8 +350,11 @@ pub struct ConvergeArgs {
     )]
     pub ref_factor: f64,
     /// Output folder [default: out/<scenario>/converge].
-    #[arg(long)]
+    #[arg(long, short, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Scenes without prescribed torques: also measure each run's trajectory error at T (largest distance and geodesic angle of a body) against this rotator at dt-min / ref-factor [default rotator: nosquish].
+    #[arg(long, value_enum, num_args = 0..=1, default_missing_value = "nosquish", value_name = "ROTATOR")]
+    pub trajectory: Option<RotatorKind>,
     /// No progress bars and no table on stdout.
     #[arg(long, short)]
     pub quiet: bool,

@@ -286,6 +286,7 @@ impl ConvergeArgs {
             ref_factor: self.ref_factor,
             out_dir: self.out.unwrap_or(default_out),
             progress: !self.quiet,
+            trajectory: self.trajectory,
         };
         Ok((scene, opts))
     }

@@ -102,6 +102,7 @@ fn unit(name: &str) -> Option<&'static str> {
         "t" | "dt" | "wall_s" | "scene_dt" | "recommended_dt" | "largest_stable_dt" => "s",
         "e_grav" | "e_trans" | "e_rot" | "e_elastic" | "e_total" => "J",
         "ns_per_body_step" => "ns",
+        "position_error_m" | "richardson_position_m" => "m",
         "factor" | "largest_stable_factor" | "hard_limit_factor" => "× δt_rec",
         "step" | "steps" | "steps_done" | "steps_planned" | "timing_runs" => "count",
         "qw" | "qx" | "qy" | "qz" | "ref_qw" | "ref_qx" | "ref_qy" | "ref_qz" | "ax" | "ay"
@@ -132,6 +133,7 @@ fn meaning(name: &str) -> Option<&'static str> {
         "err_rad" | "geodesic_rad" => "geodesic angle to the reference",
         "alpha_rad" => "Eq. 67",
         "x_error_pct" => "Table 2 x-error",
+        "position_error_m" => "largest distance of a body to the reference at T",
         "wall_s" => "wall time",
         "ax" | "ay" | "az" => "body x axis in the world",
         _ => return None,

@@ -125,6 +125,7 @@ fn converge_torque_fibre_outputs() {
             "alpha_rad",
             "geodesic_rad",
             "x_error_pct",
+            "position_error_m",
             "energy_error_full_max_pct",
             "energy_error_full_final_pct",
             "energy_error_max_pct",
@@ -298,6 +299,117 @@ fn converge_closed_form_and_energy_scenes() {
         assert!(e.parse::<f64>().unwrap() >= 0.0);
     }
     is_png(&out2.join("convergence.png"));
+}
+
+/// `converge --trajectory`: on a contact scene, each run's end state against
+/// a fine run of the named rotator. Ten fibres dropped onto the floor of a
+/// box (the first impacts, 0.03 s): `pcdm` takes the start-of-step contact
+/// torque (first order, its stated contract), `omelyan` closes each step
+/// with the torque of the new configuration (second order, as velocity
+/// Verlet's translation), and both orders show in the distance and the
+/// angle; the reference's own error (the distance to its twin at twice its
+/// step) lies below every measured error. On a torque scene the flag is bad
+/// input.
+#[test]
+fn converge_trajectory_error_on_a_contact_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("drop.toml");
+    ok(&fibresim(
+        &[
+            "generate",
+            "--n",
+            "10",
+            "--diameter",
+            "0.01",
+            "--length",
+            "0.03",
+            "--box",
+            "0.06,0.06,0.06",
+            "--t-end",
+            "0.03",
+            "--dt",
+            "4e-6",
+            "-q",
+            "-o",
+            scene.to_str().unwrap(),
+        ],
+        None,
+    ));
+    let out = dir.path().join("cv");
+    ok(&fibresim(
+        &[
+            "converge",
+            scene.to_str().unwrap(),
+            "--rotators",
+            "pcdm,omelyan",
+            "--points",
+            "3",
+            "--dt-max",
+            "4e-6",
+            "--dt-min",
+            "1e-6",
+            "--ref-factor",
+            "4",
+            "--trajectory",
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        None,
+    ));
+    let (h, rows) = csv(&out.join("reference.csv"));
+    assert_eq!(col(&h, &rows, "kind"), ["nosquish"]);
+    let own: f64 = col(&h, &rows, "richardson_position_m")[0].parse().unwrap();
+    assert!(own > 0.0);
+    let (h, rows) = csv(&out.join("convergence.csv"));
+    for p in col(&h, &rows, "position_error_m") {
+        assert!(
+            p.parse::<f64>().unwrap() > 3.0 * own,
+            "{p} m against the reference's {own} m"
+        );
+    }
+    let (h, rows) = csv(&out.join("orders.csv"));
+    let order = |rotator: &str, metric: &str| -> f64 {
+        let (r, m, o) = (
+            col(&h, &rows, "rotator"),
+            col(&h, &rows, "metric"),
+            col(&h, &rows, "order"),
+        );
+        (0..rows.len())
+            .find(|&i| r[i] == rotator && m[i] == metric)
+            .map(|i| o[i].parse().unwrap())
+            .unwrap_or_else(|| panic!("no {metric} order for {rotator}"))
+    };
+    for metric in ["position_error_m", "geodesic_rad"] {
+        let (p, o) = (order("pcdm", metric), order("omelyan", metric));
+        assert!((0.8..1.2).contains(&p), "pcdm {metric} order {p}");
+        assert!((1.8..2.5).contains(&o), "omelyan {metric} order {o}");
+    }
+    for stem in [
+        "convergence_position",
+        "convergence_geodesic",
+        "work_precision_position",
+    ] {
+        svg_with(&out.join(format!("{stem}.svg")), &["pcdm", "omelyan"]);
+    }
+    svg_with(
+        &out.join("convergence_position.svg"),
+        &["nosquish reference&apos;s own error"],
+    );
+
+    let o = fibresim(
+        &[
+            "converge",
+            "scenarios/torque_fibre.toml",
+            "--trajectory",
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--trajectory"));
 }
 
 /// `compare` writes the same per-run files and figure with 1 and 2 threads.

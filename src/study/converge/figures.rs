@@ -110,16 +110,40 @@ pub(super) fn figures(scene: &Scene, r: &ConvergeReport, opts: &ConvergeOptions)
                 ));
             }
         }
-        Mode::Energy => plots.push((
-            "convergence",
-            format!(
-                "{name}: full-budget energy error vs time step (T = {} s)",
-                short(r.t_end)
-            ),
-            "largest |E − E₀|/|E₀| over the run, Eq. 65 with elastic energy (%)".into(),
-            |p: &Point| p.energy_full_max_pct,
-            f64::NAN,
-        )),
+        Mode::Energy => {
+            plots.push((
+                "convergence",
+                format!(
+                    "{name}: full-budget energy error vs time step (T = {} s)",
+                    short(r.t_end)
+                ),
+                "largest |E − E₀|/|E₀| over the run, Eq. 65 with elastic energy (%)".into(),
+                |p: &Point| p.energy_full_max_pct,
+                f64::NAN,
+            ));
+            if let ReferenceKind::Fine(k) = r.reference.kind {
+                plots.push((
+                    "convergence_position",
+                    format!(
+                        "{name}: distance to {k} at δt_ref at T = {} s",
+                        short(r.t_end)
+                    ),
+                    "largest distance of a body to the reference at T (m)".into(),
+                    |p: &Point| p.position_m,
+                    r.reference.position_err,
+                ));
+                plots.push((
+                    "convergence_geodesic",
+                    format!(
+                        "{name}: geodesic angle to {k} at δt_ref at T = {} s",
+                        short(r.t_end)
+                    ),
+                    "largest 2 acos|q·q_ref| of a body at T (rad)".into(),
+                    |p: &Point| p.geodesic_rad,
+                    r.reference.geodesic_err,
+                ));
+            }
+        }
     }
     for (stem, title, ylab, f, ref_err) in &plots {
         let mut chart = Chart::new(title.clone(), "time step δt (s)", ylab.clone());
@@ -144,7 +168,7 @@ pub(super) fn figures(scene: &Scene, r: &ConvergeReport, opts: &ConvergeOptions)
         if ref_err.is_finite() && *ref_err > 0.0 {
             // A guide (grey, its own dash pattern): a bound, not data.
             chart.series.push(Series::new(
-                "rk4 reference's own error (Richardson)",
+                format!("{} reference's own error (Richardson)", r.reference.kind),
                 vec![dt_lo, dt_hi],
                 vec![*ref_err, *ref_err],
                 Style::Guide,
@@ -152,16 +176,23 @@ pub(super) fn figures(scene: &Scene, r: &ConvergeReport, opts: &ConvergeOptions)
         }
         render_both(&chart, dir, stem)?;
     }
-    // Work–precision: the primary metric against the measured stepping time.
-    let (_, _, ylab, f, _) = &plots[0];
-    let mut chart = Chart::new(
-        format!("{name}: work-precision"),
-        "wall time of the run, timed alone (s)",
-        ylab.clone(),
-    );
-    chart.log_x = true;
-    chart.log_y = true;
-    chart.legend = LegendPos::Auto;
-    chart.series = series_of(f, &|p| p.wall_s);
-    render_both(&chart, dir, "work_precision")
+    // Work–precision: the primary metric (and with a trajectory reference,
+    // the position error too) against the measured stepping time.
+    let mut wp = vec![("work_precision", &plots[0])];
+    if let Some(pos) = plots.iter().find(|p| p.0 == "convergence_position") {
+        wp.push(("work_precision_position", pos));
+    }
+    for (stem, (_, _, ylab, f, _)) in wp {
+        let mut chart = Chart::new(
+            format!("{name}: work-precision"),
+            "wall time of the run, timed alone (s)",
+            ylab.clone(),
+        );
+        chart.log_x = true;
+        chart.log_y = true;
+        chart.legend = LegendPos::Auto;
+        chart.series = series_of(f, &|p| p.wall_s);
+        render_both(&chart, dir, stem)?;
+    }
+    Ok(())
 }

@@ -1,7 +1,7 @@
 //! Measuring one (rotator, δt) point: the errors along an observed run, and
 //! the wall time of unobserved runs.
 
-use super::reference::Reference;
+use super::reference::{end_errors, Reference};
 use super::{Mode, Point};
 use crate::energy::error_pct;
 use crate::error::Result;
@@ -99,6 +99,7 @@ pub(super) fn measure(study: &Study, kind: RotatorKind, m: u64) -> Result<Point>
         alpha_rad: f64::NAN,
         geodesic_rad: f64::NAN,
         x_error_pct: f64::NAN,
+        position_m: f64::NAN,
         energy_max_pct: f64::NAN,
         energy_final_pct: f64::NAN,
         energy_full_max_pct: f64::NAN,
@@ -136,6 +137,11 @@ pub(super) fn measure(study: &Study, kind: RotatorKind, m: u64) -> Result<Point>
             p.energy_final_pct = acc.e_last;
             p.energy_full_max_pct = acc.full_max;
             p.energy_full_final_pct = acc.full_last;
+            if let Reference::End { x, q } = reference {
+                let xs: Vec<DVec3> = world.states.iter().map(|b| b.x).collect();
+                let qs: Vec<_> = world.states.iter().map(|b| b.rot.q).collect();
+                (p.position_m, p.geodesic_rad) = end_errors(&xs, &qs, x, q);
+            }
         }
     }
     Ok(p)

@@ -9,15 +9,17 @@
 //! - other scenes: the full-budget energy error (Eq. 65 on Eq. 64 plus the
 //!   elastic energy of live contacts, the budget that is conserved), max over
 //!   the run and final. Plain Eq. 65 (no elastic term) is also written, but
-//!   not fitted: it dips by up to ~100 % during every contact.
+//!   not fitted: it dips by up to ~100 % during every contact. With
+//!   `--trajectory`, also the trajectory error at T: the largest distance and
+//!   geodesic angle of a body to a fine run of the named rotator.
 //!
 //! Timing: the errors are computed in parallel, but each point's `wall_s` is
 //! taken afterwards in a sequential pass of unobserved runs (median of
 //! several repeats for short runs), so no run competes with another study
 //! run for the cores.
 //!
-//! Reference: the scene's closed form, else `rk4` on a grid `factor`× finer
-//! than `dt_min`. Every δt is a whole multiple `m` of that grid step, so the
+//! Reference: the scene's closed form, else `rk4` (in energy mode the
+//! `--trajectory` rotator) on a grid `factor`× finer than `dt_min`. Every δt is a whole multiple `m` of that grid step, so the
 //! reference is sampled exactly at the coarse times. The reference's own error
 //! is estimated by Richardson from a run at twice its step: diff / (2⁴ − 1).
 
@@ -69,6 +71,9 @@ pub struct ConvergeOptions {
     pub out_dir: PathBuf,
     /// Draw progress bars (on a terminal only).
     pub progress: bool,
+    /// Contact scenes: also measure the trajectory error at T against this
+    /// rotator on the fine grid (none: the energy error only).
+    pub trajectory: Option<RotatorKind>,
 }
 
 /// What is measured.
@@ -95,6 +100,9 @@ pub struct Point {
     pub geodesic_rad: f64,
     /// Table 2's relative x-error at T, percent (closed-form scenes).
     pub x_error_pct: f64,
+    /// Largest distance of a body to its trajectory reference at T, m
+    /// (energy mode with `--trajectory`; NaN otherwise).
+    pub position_m: f64,
     /// Plain Eq. 65 (Eq. 64, no elastic energy), percent: max and final.
     pub energy_max_pct: f64,
     /// See [`Point::energy_max_pct`].
@@ -165,14 +173,28 @@ pub fn converge(scene: &Scene, opts: &ConvergeOptions) -> Result<ConvergeReport>
     let grid = Grid::new(t_end, dt_max, dt_min, opts.points, opts.ref_factor)?;
     let (n_ref, ms) = (grid.n_ref, &grid.ms);
     let nb = scene.bodies.len();
-    let needs_rk4 = ReferenceKind::of(scene, mode) == ReferenceKind::Rk4;
+    if let (Mode::Orientation, Some(_)) = (mode, opts.trajectory) {
+        return Err(crate::error::Error::bad(
+            "command line",
+            "--trajectory",
+            "this scene is measured by its orientation against the closed form or rk4 already; --trajectory is for scenes without prescribed torques or a closed form; drop it",
+        ));
+    }
+    if let Some(k) = opts.trajectory {
+        super::runnable(scene, &[k])?;
+    }
+    let needs_run = matches!(
+        ReferenceKind::of(scene, mode, opts.trajectory),
+        ReferenceKind::Rk4 | ReferenceKind::Fine(_)
+    );
 
     // Per point: the measured run and the first timing run.
     let work: u64 = ms.iter().map(|m| 2 * (n_ref / m)).sum::<u64>() * opts.rotators.len() as u64
-        + if needs_rk4 { n_ref + n_ref / 2 } else { 0 };
+        + if needs_run { n_ref + n_ref / 2 } else { 0 };
     let progress = Progress::new(opts.progress, work * nb as u64, "converge");
 
-    let (reference, ref_info) = Reference::new(scene, mode, &grid, t_end, &progress)?;
+    let (reference, ref_info) =
+        Reference::new(scene, mode, &grid, t_end, &progress, opts.trajectory)?;
     let study = Study {
         scene,
         mode,
@@ -216,7 +238,7 @@ pub fn converge(scene: &Scene, opts: &ConvergeOptions) -> Result<ConvergeReport>
         mode,
         t_end,
         dts: ms.iter().map(|&m| m as f64 * grid.dt_ref).collect(),
-        orders: fit_orders(&points, &opts.rotators, mode),
+        orders: fit_orders(&points, &opts.rotators, mode, opts.trajectory.is_some()),
         points,
         reference: ref_info,
         wall_s: start.elapsed().as_secs_f64(),
@@ -227,8 +249,13 @@ pub fn converge(scene: &Scene, opts: &ConvergeOptions) -> Result<ConvergeReport>
 
 /// Observed orders of each rotator for the metrics of `mode`, over all
 /// points and over the finest three.
-fn fit_orders(points: &[Point], rotators: &[RotatorKind], mode: Mode) -> Vec<Orders> {
-    let metrics: Vec<(&'static str, MetricFn)> = match mode {
+fn fit_orders(
+    points: &[Point],
+    rotators: &[RotatorKind],
+    mode: Mode,
+    trajectory: bool,
+) -> Vec<Orders> {
+    let mut metrics: Vec<(&'static str, MetricFn)> = match mode {
         Mode::Orientation => vec![
             ("alpha_rad", |p| p.alpha_rad),
             ("geodesic_rad", |p| p.geodesic_rad),
@@ -238,6 +265,10 @@ fn fit_orders(points: &[Point], rotators: &[RotatorKind], mode: Mode) -> Vec<Ord
             ("energy_error_full_final_pct", |p| p.energy_full_final_pct),
         ],
     };
+    if mode == Mode::Energy && trajectory {
+        metrics.push(("position_error_m", |p| p.position_m));
+        metrics.push(("geodesic_rad", |p| p.geodesic_rad));
+    }
     let mut orders = Vec::new();
     for &k in rotators {
         let pts: Vec<&Point> = points.iter().filter(|p| p.rotator == k).collect();

@@ -24,6 +24,7 @@ pub(super) fn write_outputs(
                 cell(p.alpha_rad),
                 cell(p.geodesic_rad),
                 cell(p.x_error_pct),
+                cell(p.position_m),
                 cell(p.energy_full_max_pct),
                 cell(p.energy_full_final_pct),
                 cell(p.energy_max_pct),
@@ -43,6 +44,7 @@ pub(super) fn write_outputs(
             "alpha_rad",
             "geodesic_rad",
             "x_error_pct",
+            "position_error_m",
             "energy_error_full_max_pct",
             "energy_error_full_final_pct",
             "energy_error_max_pct",
@@ -92,6 +94,7 @@ pub(super) fn write_outputs(
             "wall_s",
             "richardson_alpha_rad",
             "richardson_geodesic_rad",
+            "richardson_position_m",
         ],
         &[vec![
             rf.kind.to_string(),
@@ -100,6 +103,7 @@ pub(super) fn write_outputs(
             cell(rf.wall_s),
             cell(rf.alpha_err),
             cell(rf.geodesic_err),
+            cell(rf.position_err),
         ]],
     )?;
     figures::figures(scene, r, opts)

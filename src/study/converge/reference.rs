@@ -1,12 +1,14 @@
 //! The reference a run is measured against: the scene's closed form, an rk4
-//! run on the fine grid (its own error estimated by Richardson), or none in
-//! energy mode.
+//! run on the fine grid (its own error estimated by Richardson), in energy
+//! mode the end state of a fine run of a chosen rotator (`--trajectory`), or
+//! none.
 
 use super::grid::{gcd, Grid};
 use super::Mode;
 use crate::error::{Error, Result};
 use crate::integrate::rotate::RotatorKind;
 use crate::math::{angle_between, geodesic_angle};
+use crate::run::integrate_observed;
 use crate::scenario::{ClosedForm, Scene};
 use crate::study::{sample_orientations, with_params, Progress};
 use glam::{DQuat, DVec3};
@@ -19,15 +21,18 @@ pub enum ReferenceKind {
     ClosedForm,
     /// rk4 on the fine grid.
     Rk4,
+    /// Energy mode with `--trajectory`: the end state of this rotator on the
+    /// fine grid.
+    Fine(RotatorKind),
     /// No reference orientation: energy mode.
     None,
 }
 
 impl ReferenceKind {
     /// The reference a study of `scene` measuring `mode` uses.
-    pub(super) fn of(scene: &Scene, mode: Mode) -> ReferenceKind {
+    pub(super) fn of(scene: &Scene, mode: Mode, trajectory: Option<RotatorKind>) -> ReferenceKind {
         match (mode, &scene.reference) {
-            (Mode::Energy, _) => ReferenceKind::None,
+            (Mode::Energy, _) => trajectory.map_or(ReferenceKind::None, ReferenceKind::Fine),
             (Mode::Orientation, Some(_)) => ReferenceKind::ClosedForm,
             (Mode::Orientation, None) => ReferenceKind::Rk4,
         }
@@ -39,6 +44,7 @@ impl std::fmt::Display for ReferenceKind {
         f.write_str(match self {
             ReferenceKind::ClosedForm => "closed form",
             ReferenceKind::Rk4 => "rk4",
+            ReferenceKind::Fine(k) => k.name(),
             ReferenceKind::None => "none",
         })
     }
@@ -49,17 +55,20 @@ impl std::fmt::Display for ReferenceKind {
 pub struct ReferenceInfo {
     /// Where the reference comes from.
     pub kind: ReferenceKind,
-    /// The rk4 reference's step, s (NaN otherwise).
+    /// The reference run's step, s (NaN for a closed form or none).
     pub dt: f64,
-    /// The rk4 reference's steps (0 otherwise).
+    /// The reference run's steps (0 otherwise).
     pub steps: u64,
-    /// Wall time of the rk4 reference run, s (0 otherwise).
+    /// Wall time of the reference run, s (0 otherwise).
     pub wall_s: f64,
     /// Richardson estimates of the reference's own Eq. 67 and geodesic
-    /// errors, rad: 0 for a closed form, NaN without a reference.
+    /// errors, rad: 0 for a closed form, NaN without a reference (Eq. 67:
+    /// NaN for a trajectory reference, which keeps the end state only).
     pub alpha_err: f64,
     /// See [`ReferenceInfo::alpha_err`].
     pub geodesic_err: f64,
+    /// A trajectory reference's own position error at T, m (NaN otherwise).
+    pub position_err: f64,
 }
 
 /// The reference orientation at fine-grid multiples of `stride`.
@@ -70,6 +79,11 @@ pub(super) enum Reference {
         q: Vec<DQuat>,
         stride: u64,
         bodies: usize,
+    },
+    /// Every body's position and orientation at T.
+    End {
+        x: Vec<DVec3>,
+        q: Vec<DQuat>,
     },
     None,
 }
@@ -82,10 +96,12 @@ impl Reference {
         grid: &Grid,
         t_end: f64,
         progress: &Progress,
+        trajectory: Option<RotatorKind>,
     ) -> Result<(Reference, ReferenceInfo)> {
-        let kind = ReferenceKind::of(scene, mode);
+        let kind = ReferenceKind::of(scene, mode, trajectory);
         let (reference, own_error) = match (kind, &scene.reference) {
             (ReferenceKind::Rk4, _) => return rk4(scene, grid, t_end, progress),
+            (ReferenceKind::Fine(k), _) => return end_state(scene, k, grid, t_end, progress),
             (ReferenceKind::ClosedForm, Some(c)) => (Reference::Closed(c.clone()), 0.0),
             _ => (Reference::None, f64::NAN),
         };
@@ -96,6 +112,7 @@ impl Reference {
             wall_s: 0.0,
             alpha_err: own_error,
             geodesic_err: own_error,
+            position_err: f64::NAN,
         };
         Ok((reference, info))
     }
@@ -109,7 +126,7 @@ impl Reference {
                 debug_assert_eq!(fine_step % stride, 0);
                 Some(q[(fine_step / stride) as usize * bodies + body])
             }
-            Reference::None => None,
+            Reference::End { .. } | Reference::None => None,
         }
     }
 }
@@ -171,6 +188,7 @@ fn rk4(
         wall_s: wall,
         alpha_err: asum / an.max(1) as f64 / 15.0,
         geodesic_err: geo / 15.0,
+        position_err: f64::NAN,
     };
     Ok((
         Reference::Sampled {
@@ -180,4 +198,66 @@ fn rk4(
         },
         info,
     ))
+}
+
+/// The end state of `kind` on the fine grid, and of its twin at twice the
+/// step, in parallel. Contact scenes are at most second order (velocity
+/// Verlet, the contact torque), and first order with a one-stage rotator, so
+/// the twin's whole difference is taken as the reference's own error: the
+/// Richardson estimate for order 1, an upper bound for order 2 (3x).
+fn end_state(
+    scene: &Scene,
+    kind: RotatorKind,
+    grid: &Grid,
+    t_end: f64,
+    progress: &Progress,
+) -> Result<(Reference, ReferenceInfo)> {
+    let fine = with_params(scene, kind, grid.dt_ref, t_end)?;
+    let coarse = with_params(scene, kind, 2.0 * grid.dt_ref, t_end)?;
+    let run = |s: &Scene, label: &str| {
+        let t0 = Instant::now();
+        let bar = progress.step_bar(label, s.sim.steps());
+        let r = integrate_observed(s, |w| bar.at(w.step));
+        bar.finish();
+        progress.done(s.sim.steps() * s.bodies.len() as u64);
+        r.map(|w| {
+            let x: Vec<DVec3> = w.states.iter().map(|b| b.x).collect();
+            let q: Vec<DQuat> = w.states.iter().map(|b| b.rot.q).collect();
+            (x, q, t0.elapsed().as_secs_f64())
+        })
+    };
+    let label = format!("{kind} reference");
+    let (rf, rc) = rayon::join(
+        || run(&fine, &label),
+        || run(&coarse, &format!("{label} x2")),
+    );
+    let (x, q, wall) = rf.map_err(Error::Unstable)?;
+    let (xc, qc, _) = rc.map_err(Error::Unstable)?;
+    let (position_err, geodesic_err) = end_errors(&xc, &qc, &x, &q);
+    let info = ReferenceInfo {
+        kind: ReferenceKind::Fine(kind),
+        dt: grid.dt_ref,
+        steps: grid.n_ref,
+        wall_s: wall,
+        alpha_err: f64::NAN,
+        geodesic_err,
+        position_err,
+    };
+    Ok((Reference::End { x, q }, info))
+}
+
+/// The largest distance and geodesic angle, over the bodies, between the
+/// end states `(x, q)` and the reference's `(xr, qr)`: (m, rad).
+pub(super) fn end_errors(x: &[DVec3], q: &[DQuat], xr: &[DVec3], qr: &[DQuat]) -> (f64, f64) {
+    let pos = x
+        .iter()
+        .zip(xr)
+        .map(|(a, b)| a.distance(*b))
+        .fold(0.0, f64::max);
+    let geo = q
+        .iter()
+        .zip(qr)
+        .map(|(a, b)| geodesic_angle(*a, *b))
+        .fold(0.0, f64::max);
+    (pos, geo)
 }

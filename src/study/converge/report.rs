@@ -14,6 +14,10 @@ pub fn print_report(r: &ConvergeReport) {
             rf.dt, rf.steps, rf.wall_s, fmt_e(rf.alpha_err), fmt_e(rf.geodesic_err)
         ),
         ReferenceKind::ClosedForm => println!("reference: the scene's closed form"),
+        ReferenceKind::Fine(k) => println!(
+            "reference: {k} at dt = {:.3e} s ({} steps, {:.2} s), end state; its own error (distance to its twin at 2 dt): position ~ {} m, geodesic ~ {} rad",
+            rf.dt, rf.steps, rf.wall_s, fmt_e(rf.position_err), fmt_e(rf.geodesic_err)
+        ),
         ReferenceKind::None => println!(
             "reference: none (full-budget energy error: Eq. 65 with the elastic energy of live contacts)"
         ),
@@ -24,8 +28,15 @@ pub fn print_report(r: &ConvergeReport) {
             "rotator", "dt", "steps", "alpha_rad", "geodesic", "x_err_%", "wall_s"
         ),
         Mode::Energy => println!(
-            "{:<11} {:>10} {:>10} {:>12} {:>12} {:>9}  stopped",
-            "rotator", "dt", "steps", "Efull_max_%", "Efull_fin_%", "wall_s"
+            "{:<11} {:>10} {:>10} {:>12} {:>12} {:>12} {:>12} {:>9}  stopped",
+            "rotator",
+            "dt",
+            "steps",
+            "Efull_max_%",
+            "Efull_fin_%",
+            "position_m",
+            "geodesic",
+            "wall_s"
         ),
     }
     for p in &r.points {
@@ -42,12 +53,14 @@ pub fn print_report(r: &ConvergeReport) {
                 p.wall_s
             ),
             Mode::Energy => println!(
-                "{:<11} {:>10.3e} {:>10} {:>12} {:>12} {:>9.4}  {stop}",
+                "{:<11} {:>10.3e} {:>10} {:>12} {:>12} {:>12} {:>12} {:>9.4}  {stop}",
                 p.rotator.name(),
                 p.dt,
                 p.steps,
                 fmt_e(p.energy_full_max_pct),
                 fmt_e(p.energy_full_final_pct),
+                fmt_e(p.position_m),
+                fmt_e(p.geodesic_rad),
                 p.wall_s
             ),
         }
