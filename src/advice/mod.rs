@@ -23,8 +23,15 @@
 //! at most at `v_max,i + v_max,j` with `1/m* = 1/m_eff,i + 1/m_eff,j`. The
 //! Hertz time `∝ m*^{2/5} v^{-1/5}` then scales as `√m_eff`: about half the
 //! translational estimate for test case 1's fibre. Both bounds err on the
-//! safe side. Scenes with a prescribed torque have no energy bound and get no
-//! contact advice.
+//! safe side.
+//!
+//! **Bodies with a prescribed torque** other than zero have no energy bound
+//! (the torque does work), so without `--impact-speed` their contacts are left out of the
+//! pairs and the advice covers the contacts of the other bodies (and the
+//! walls), with a warning naming how many bodies it leaves out; the torque
+//! bodies' own rotation is limited by the rotator's accuracy only
+//! ([`Advice::torque_bodies`]). One torque body does not switch the advice
+//! off for the rest of the scene.
 //!
 //! **Face tilt.** A fibre whose end face is (nearly) flat on a wall or on
 //! another fibre rocks on it: the face blend of the wall model and the domed
@@ -89,6 +96,10 @@ pub struct Advice {
     pub pairs: Vec<PairAdvice>,
     /// Recommended δt, s (None: no contacts, accuracy is the only limit).
     pub recommended_dt: Option<f64>,
+    /// Bodies with a prescribed torque other than zero: their rotation is
+    /// limited by the rotator's accuracy only, and without `--impact-speed`
+    /// their contacts are left out of the pairs (no energy bound).
+    pub torque_bodies: usize,
     /// Above this δt a collision spans fewer than 5 steps.
     pub hard_limit_dt: Option<f64>,
     /// What `run` and `check` print as warnings.
@@ -155,12 +166,16 @@ const MAX_KINDS: usize = 16;
 
 /// Kinds of bodies for the advice: a representative body, how many bodies
 /// the kind has, and the largest impact-speed bound among them. O(N).
+/// Bodies whose `v_max` is NaN (a speed that cannot be bounded) are left out.
 fn kinds(scene: &Scene, v_max: &[f64]) -> (Vec<(usize, usize, f64)>, bool) {
     use std::collections::HashMap;
     let group = |by_size: bool| {
         let mut index: HashMap<(u32, u64, u64), usize> = HashMap::new();
         let mut out: Vec<(usize, usize, f64)> = vec![];
         for (i, b) in scene.bodies.iter().enumerate() {
+            if v_max[i].is_nan() {
+                continue;
+            }
             let (d, l) = match b.shape {
                 Shape::Fibre { diameter, length } => (diameter, length),
                 Shape::Sphere { diameter } => (diameter, -1.0),
@@ -214,14 +229,26 @@ pub fn advise(scene: &Scene) -> Advice {
 /// per-body bound for every pair (a user who knows the flow better).
 pub fn advise_with(scene: &Scene, impact_speed: Option<f64>) -> Advice {
     let mut warnings = vec![];
+    // A prescribed torque other than zero does work: its body's energy
+    // bounds nothing (NaN) unless the impact speed is given.
+    let working = |i: usize| {
+        crate::scenario::scene::prescribed_on(&scene.torques, i).is_some_and(|t| !t.is_zero())
+    };
+    let torque_bodies = (0..scene.bodies.len()).filter(|&i| working(i)).count();
     let energies: Vec<f64> = scene
         .bodies
         .iter()
         .zip(&scene.initial)
-        .map(|(b, s)| body_energy(scene, b, s))
+        .enumerate()
+        .map(|(i, (b, s))| match impact_speed.is_none() && working(i) {
+            true => f64::NAN,
+            false => body_energy(scene, b, s),
+        })
         .collect();
-    let e = energies.iter().copied().fold(0.0, f64::max);
-    let e = if energies.iter().any(|x| !x.is_finite()) {
+    let unbounded = energies.iter().filter(|e| e.is_nan()).count();
+    let bounded = || energies.iter().copied().filter(|e| !e.is_nan());
+    let e = bounded().fold(0.0, f64::max);
+    let e = if bounded().any(|x| !x.is_finite()) {
         f64::INFINITY
     } else {
         e
@@ -232,6 +259,7 @@ pub fn advise_with(scene: &Scene, impact_speed: Option<f64>) -> Advice {
         grouped_by_material: false,
         pairs: vec![],
         recommended_dt: None,
+        torque_bodies,
         hard_limit_dt: None,
         warnings,
     };
@@ -244,11 +272,17 @@ pub fn advise_with(scene: &Scene, impact_speed: Option<f64>) -> Advice {
         ));
         return no_advice(warnings);
     }
-    if scene.has_prescribed_torque() && impact_speed.is_none() {
-        warnings.push(
-            "prescribed torques do work: impact speeds cannot be bounded, no contact advice".into(),
-        );
-        return no_advice(warnings);
+    if unbounded > 0 {
+        let (n, its) = match unbounded {
+            1 => ("1 body".to_string(), "its"),
+            n => (format!("{n} bodies"), "their"),
+        };
+        warnings.push(format!(
+            "{n} with a prescribed torque: the torque does work, so {its} impact speed cannot be bounded and {its} contacts are left out of the advice (which covers the other bodies' contacts); give --impact-speed V to include them"
+        ));
+        if unbounded == scene.bodies.len() {
+            return no_advice(warnings);
+        }
     }
     let mut pairs = vec![];
     if e <= 0.0 && impact_speed.is_none() {
@@ -261,7 +295,10 @@ pub fn advise_with(scene: &Scene, impact_speed: Option<f64>) -> Advice {
         .bodies
         .iter()
         .zip(&energies)
-        .map(|(b, &e)| impact_speed.unwrap_or_else(|| (2.0 * e / m_eff(b)).sqrt().max(1e-12)))
+        .map(|(b, &e)| match e.is_nan() {
+            true => f64::NAN,
+            false => impact_speed.unwrap_or_else(|| (2.0 * e / m_eff(b)).sqrt().max(1e-12)),
+        })
         .collect();
     let (kinds, grouped) = kinds(scene, &v_body);
     let name = |i: usize| scene.name(i);
@@ -360,6 +397,7 @@ pub fn advise_with(scene: &Scene, impact_speed: Option<f64>) -> Advice {
         grouped_by_material: grouped,
         pairs,
         recommended_dt: recommended.is_finite().then_some(recommended),
+        torque_bodies,
         hard_limit_dt: unresolved
             .is_finite()
             .then_some(unresolved / MIN_STEPS_PER_COLLISION),

@@ -240,7 +240,16 @@ impl fmt::Display for CheckReport<'_> {
         }
         match a.recommended_dt {
             Some(r) => writeln!(f, "\nrecommended dt <= {r:.3e} s (shortest collision / 50, fastest face tilt / 50, and 0.2 x Rayleigh time); chosen dt = {:e} s, margin {:.3}x", scene.sim.dt(), r / scene.sim.dt())?,
+            None if scene.needs_contacts() && a.torque_bodies > 0 && a.impact_speed.is_none() => writeln!(f, "\nno contact advice: every body that can touch has a prescribed torque, so no impact speed can be bounded; give --impact-speed V")?,
             None => writeln!(f, "\nno contacts to resolve: dt is limited by accuracy only (see `fibresim rotators` for orders)")?,
+        }
+        if a.torque_bodies > 0 {
+            writeln!(
+                f,
+                "prescribed torques on {}: {} rotation is limited by the rotator's accuracy only (`fibresim rotators` for the orders, `fibresim converge` to measure it)",
+                count(a.torque_bodies as u64, "body", "bodies"),
+                if a.torque_bodies == 1 { "its" } else { "their" },
+            )?;
         }
         if a.recommended_dt.is_some() {
             let i = scene.sim.rotator().info();

@@ -129,6 +129,7 @@ impl RunArgs {
                 scene.output = crate::scenario::OutputRequest {
                     vtk_every: crate::output::vtk::cadence_in(c)?,
                     trajectory_every: crate::output::trajectory::cadence_in(c)?,
+                    ..scene.output
                 };
                 (scene, "resumed".to_string(), vec![])
             }
@@ -480,7 +481,7 @@ impl GenerateArgs {
         let sim = SimParams::new(
             self.dt,
             self.t_end,
-            crate::integrate::rotate::RotatorKind::Pcdm,
+            crate::integrate::rotate::RotatorKind::DEFAULT,
             None,
             "command line",
             "--",

@@ -1,12 +1,16 @@
-//! `orientation.csv`: every body's orientation per output row; with a
-//! closed-form reference, the reference quaternion and the geodesic angle
-//! to it (column names are a public contract).
+//! `orientation.csv`: the orientation per output row of the bodies that need
+//! it — those with a prescribed torque, and the body of a closed-form
+//! reference — or of every body when the scene asks (`[output] orientation =
+//! "all"`); with a closed-form reference, the reference quaternion and the
+//! geodesic angle to it (column names are a public contract). A scene with
+//! neither writes no file: a bed's rows would be bodies × rows for nothing.
 
 use super::file::CsvFile;
 use crate::error::Result;
 use crate::math::{geodesic_angle, wxyz};
 use crate::output::Checkpoint;
 use crate::run::observer::{Observer, RunEnd, View};
+use crate::scenario::Scene;
 use glam::{DQuat, DVec3};
 
 /// The file name in the output folder, and the observer's name in checkpoints.
@@ -18,17 +22,38 @@ pub struct OrientationCsv {
     file: CsvFile,
     every: u64,
     with_reference: bool,
+    /// Storage indices of the bodies written, ascending.
+    bodies: Vec<usize>,
 }
 
 impl OrientationCsv {
-    /// `orientation.csv` in `dir`, one row per body every `every` steps.
-    pub fn new(dir: &std::path::Path, every: u64, with_reference: bool) -> Self {
-        OrientationCsv {
+    /// `orientation.csv` in `dir` for `scene`, one row per body written
+    /// every `every` steps; `None` when no body needs one.
+    pub fn for_scene(dir: &std::path::Path, every: u64, scene: &Scene) -> Option<Self> {
+        let bodies = bodies_written(scene);
+        (!bodies.is_empty()).then(|| OrientationCsv {
             file: CsvFile::at(dir.join(NAME)),
             every,
-            with_reference,
-        }
+            with_reference: scene.reference.is_some(),
+            bodies,
+        })
     }
+}
+
+/// The bodies `orientation.csv` holds, by storage index: every body if the
+/// scene asks, else those with a prescribed torque and the one body of a
+/// closed-form reference (the closed forms describe body 0).
+pub fn bodies_written(scene: &Scene) -> Vec<usize> {
+    if scene.output.orientation_all {
+        return (0..scene.bodies.len()).collect();
+    }
+    let mut b: Vec<usize> = scene.torques.iter().map(|p| p.body).collect();
+    if scene.reference.is_some() {
+        b.push(0);
+    }
+    b.sort_unstable();
+    b.dedup();
+    b
 }
 
 impl Observer for OrientationCsv {
@@ -52,8 +77,8 @@ impl Observer for OrientationCsv {
         let (step, t) = (w.step, w.time());
         let reference = scene.reference.as_ref().map(|r| r.orientation(t));
         let with_reference = self.with_reference;
-        for (s, id) in w.states.iter().zip(scene.ids.iter()) {
-            let q = s.rot.q;
+        for &i in &self.bodies {
+            let (q, id) = (w.states[i].rot.q, scene.ids.get(i));
             let a = q * DVec3::X;
             let mut row = self.file.row()?;
             row.u(step).f(t).u(id);

@@ -129,9 +129,7 @@ pub(crate) fn run_by<'s, S: driver::Stepper<'s>>(
     let every = scene.sim.every_or_default();
     let mut energy = EnergyCsv::new(dir, every, scene.needs_contacts())
         .with_dissipation(scene.damping.is_some());
-    let with_orientation = scene.has_prescribed_torque() || scene.reference.is_some();
-    let mut orientation =
-        with_orientation.then(|| OrientationCsv::new(dir, every, scene.reference.is_some()));
+    let mut orientation = OrientationCsv::for_scene(dir, every, scene);
     let mut trajectory = scene
         .output
         .trajectory_every

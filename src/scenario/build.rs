@@ -73,7 +73,7 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
     let cx = Ctx { src };
     let s = &raw.simulation;
     let rotator = match &s.rotator {
-        None => RotatorKind::Pcdm,
+        None => RotatorKind::DEFAULT,
         Some(name) => RotatorKind::from_name(name)
             .ok_or_else(|| cx.err("simulation.rotator", check::unknown_rotator(name)))?,
     };

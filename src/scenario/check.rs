@@ -54,12 +54,14 @@ pub(super) fn not_unit_quaternion(n: f64) -> Option<String> {
     })
 }
 
-/// A value of an enumerated key (`rotator`, `shape`, `closed_form`) that
-/// is not one of its names: the closest name, if one is close, and all.
+/// A value of an enumerated key (`rotator`, `shape`, `closed_form`,
+/// `orientation`) that is not one of its names: the closest name, if one is
+/// close, and all.
 pub(super) fn unknown_name(kind: Kind, name: &str) -> String {
     let what = match kind {
         Kind::Rotator => "rotator",
         Kind::Shape => "shape",
+        Kind::OrientationBodies => "orientation.csv selection",
         _ => "closed form",
     };
     let names = kind.names();

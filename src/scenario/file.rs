@@ -43,6 +43,8 @@ pub struct OutputSection {
     pub vtk_every: Option<u64>,
     /// A `trajectory.csv` row per body every this many steps.
     pub trajectory_every: Option<u64>,
+    /// Which bodies `orientation.csv` holds: `needed` or `all`.
+    pub orientation: Option<String>,
 }
 
 /// Limits that stop a run early with a diagnosis (defaults in `build::Guards`).
@@ -86,7 +88,7 @@ pub struct SimulationSection {
     pub dt: f64,
     /// End time, s.
     pub t_end: f64,
-    /// Rotator name (default `pcdm`).
+    /// Rotator name (default [`crate::integrate::rotate::RotatorKind::DEFAULT`]).
     pub rotator: Option<String>,
     /// Write one output row per `every` steps (default: at most ~1e5 rows).
     pub every: Option<u64>,

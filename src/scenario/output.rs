@@ -12,6 +12,9 @@ pub struct OutputRequest {
     pub vtk_every: Option<u64>,
     /// A `trajectory.csv` row per body every this many steps.
     pub trajectory_every: Option<u64>,
+    /// `orientation.csv` holds every body (`[output] orientation = "all"`),
+    /// not only those that need it (a prescribed torque, a closed form).
+    pub orientation_all: bool,
 }
 
 /// A cadence: at least one step; `key` names it in the message.
@@ -29,8 +32,20 @@ pub(super) fn build_output(src: &str, raw: Option<&OutputSection>) -> Result<Out
     let Some(o) = raw else {
         return Ok(OutputRequest::default());
     };
+    let orientation_all = match o.orientation.as_deref() {
+        None | Some("needed") => false,
+        Some("all") => true,
+        // The pre-check refuses it first, with the others in its report.
+        Some(other) => {
+            return Err(Ctx { src }.err(
+                "output.orientation",
+                super::check::unknown_name(super::keys::Kind::OrientationBodies, other),
+            ))
+        }
+    };
     Ok(OutputRequest {
         vtk_every: cadence(src, "output.vtk_every", o.vtk_every)?,
         trajectory_every: cadence(src, "output.trajectory_every", o.trajectory_every)?,
+        orientation_all,
     })
 }

@@ -458,12 +458,14 @@ impl Pass {
                 None => Some(wrong("four numbers [w, x, y, z]")),
                 Some(q) => check::not_unit_quaternion(q.iter().map(|c| c * c).sum::<f64>().sqrt()),
             },
-            Kind::Rotator | Kind::Shape | Kind::ClosedForm => match v.and_then(Value::as_str) {
-                None => Some(wrong("a name in quotes")),
-                Some(name) => {
-                    (!k.kind.names().contains(&name)).then(|| check::unknown_name(k.kind, name))
+            Kind::Rotator | Kind::Shape | Kind::ClosedForm | Kind::OrientationBodies => {
+                match v.and_then(Value::as_str) {
+                    None => Some(wrong("a name in quotes")),
+                    Some(name) => {
+                        (!k.kind.names().contains(&name)).then(|| check::unknown_name(k.kind, name))
+                    }
                 }
-            },
+            }
             Kind::Text => v
                 .and_then(Value::as_str)
                 .is_none()

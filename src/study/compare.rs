@@ -246,7 +246,8 @@ pub fn compare(scene: &Scene, opts: &CompareOptions) -> Result<CompareReport> {
 }
 
 /// The geodesic angle at every output row of `dir/orientation.csv` (max over
-/// bodies) to the reference orientations `q_ref` (one per coarse step and body).
+/// the bodies it holds) to the reference orientations `q_ref` (one per
+/// coarse step and body).
 fn angle_series(
     scene: &Scene,
     dir: &std::path::Path,
@@ -262,11 +263,14 @@ fn angle_series(
         let (n, b) = (step[i] as usize, body[i] as usize);
         let q = DQuat::from_xyzw(qx[i], qy[i], qz[i], qw[i]);
         let a = geodesic_angle(q, q_ref[n * nb + b]);
-        if b == 0 {
+        // A row's bodies share its step: a new step starts a new point.
+        if i > 0 && step[i] == step[i - 1] {
+            if let Some(last) = es.last_mut() {
+                *last = last.max(a);
+            }
+        } else {
             ts.push(t[i]);
             es.push(a);
-        } else if let Some(last) = es.last_mut() {
-            *last = last.max(a);
         }
     }
     Ok((ts, es))

@@ -182,13 +182,14 @@ pub fn wants_log(values: &[f64]) -> bool {
     (top as f64) < 0.75 * pos.len() as f64
 }
 
-/// Default y column: the first of these with a finite value (the Eq. 65
-/// error for energy files, the reference angle for orientation files, the
-/// Eq. 67 error for convergence tables, the errors of compare and stress
-/// tables, the orders; the axis for orientation files without a reference,
-/// the energy for energy files whose Eq. 65 is undefined, E₀ = 0).
+/// Default y column: the first of these with a finite value (the
+/// full-budget Eq. 65 error, the conserved quantity, for energy files; the
+/// reference angle for orientation files, the Eq. 67 error for convergence
+/// tables, the errors of compare and stress tables, the orders; the axis
+/// for orientation files without a reference, the energy for energy files
+/// whose Eq. 65 is undefined, E₀ = 0).
 const DEFAULT_Y: &[&str] = &[
-    "energy_error_pct",
+    "energy_error_full_pct",
     "err_rad",
     "alpha_rad",
     "energy_error_full_max_pct",

@@ -74,6 +74,17 @@ impl PrescribedTorque {
         }
     }
 
+    /// Whether every component is the constant 0: a torque that does no
+    /// work (the time-step advice then bounds its body's energy as any other).
+    pub fn is_zero(&self) -> bool {
+        match &self.source {
+            Source::Components(c) => c
+                .iter()
+                .all(|c| matches!(c, Component::Const(v) if *v == 0.0)),
+            Source::Manufactured(_) => false,
+        }
+    }
+
     /// World torque at time `t`.
     #[inline]
     pub fn at(&self, t: f64) -> DVec3 {

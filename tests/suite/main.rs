@@ -17,6 +17,7 @@ mod contact_memory;
 mod contact_oracle;
 mod contact_ties;
 mod damping;
+mod defaults;
 mod first_hour;
 mod free_flight;
 mod guards;

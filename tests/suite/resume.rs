@@ -321,8 +321,11 @@ fn damped_bed(dir: &Path, t_end: &str) -> String {
     .unwrap();
     let text = std::fs::read_to_string(root.join("bed_1k.toml")).unwrap();
     assert!(text.contains("t_end = 0.002") && !text.contains("[contact]"));
-    let text = text.replace("t_end = 0.002", &format!("t_end = {t_end}"))
-        + "\n[contact]\nrestitution = 0.3\n";
+    // pcdm keeps no rotator state: the states file is the layout below.
+    let text = text.replace(
+        "t_end = 0.002",
+        &format!("t_end = {t_end}\nrotator = \"pcdm\""),
+    ) + "\n[contact]\nrestitution = 0.3\n";
     let path = dir.join("damped.toml");
     std::fs::write(&path, text).unwrap();
     path.to_str().unwrap().to_string()
@@ -406,6 +409,7 @@ const STACK: &str = r#"
 [simulation]
 dt = 2e-6
 t_end = 1.0
+rotator = "pcdm"
 [world]
 gravity = [0.0, 0.0, -9.81]
 [box]

@@ -348,6 +348,11 @@ impl RotatorKind {
         out
     };
 
+    /// The rotator of a scene that names none (`simulation.rotator`): the
+    /// most accurate per unit of run time on contact scenes, from the
+    /// work–precision study in docs/studies.md ("The default rotator").
+    pub const DEFAULT: RotatorKind = RotatorKind::Omelyan;
+
     /// The paper's four rotators, in the order of its Figs. 2–4.
     pub const PAPER: [RotatorKind; 4] = [
         RotatorKind::Pcdm,
@@ -486,7 +491,12 @@ pub fn rotator_table() -> String {
         let _ = writeln!(s, "{:14} prescribed torque: {}", "", i.torque_contract);
         let _ = writeln!(s, "{:14} contact torque:    {}", "", i.contact_contract);
     }
-    let _ = writeln!(s, "\norder: measured global order for a general load, free: in torque-free motion of an asymmetric body (study::order, tests/suite/rotator_order.rs); sympl: symplectic; rev: time-reversible; evals: torque evaluations per step");
+    let _ = writeln!(
+        s,
+        "\ndefault: {} (scenes that name no rotator; the most accurate per unit of run time on contact scenes, docs/studies.md)",
+        RotatorKind::DEFAULT.name()
+    );
+    let _ = writeln!(s, "order: measured global order for a general load, free: in torque-free motion of an asymmetric body (study::order, tests/suite/rotator_order.rs); sympl: symplectic; rev: time-reversible; evals: torque evaluations per step");
     s
 }
 
