@@ -136,8 +136,8 @@ pub struct GenerateArgs {
     /// The scenario's end time, s.
     #[arg(long = "t-end", default_value_t = 0.01)]
     pub t_end: f64,
-    /// The scenario to write (the body file goes beside it as <stem>_bodies.csv).
-    #[arg(long, short)]
+    /// The scenario to write (the body file goes beside it as <stem>_bodies.csv); its folder is created.
+    #[arg(long, short, value_name = "FILE")]
     pub out: PathBuf,
     /// Print nothing on success.
     #[arg(long, short)]
@@ -151,8 +151,8 @@ pub struct ReplicateArgs {
     /// Copies along x, y and z, e.g. 3,3,1.
     #[arg(long, value_name = "NX,NY,NZ")]
     pub times: String,
-    /// The scenario to write (the body file goes beside it as <stem>_bodies.csv).
-    #[arg(long, short)]
+    /// The scenario to write (the body file goes beside it as <stem>_bodies.csv); its folder is created.
+    #[arg(long, short, value_name = "FILE")]
     pub out: PathBuf,
     /// Print nothing on success.
     #[arg(long, short)]
@@ -189,7 +189,7 @@ pub struct SettleArgs {
     #[arg(long)]
     pub write_t_end: Option<f64>,
     /// Output folder of the settling run (energy.csv, summary.json) [default: out/<scenario>/settle].
-    #[arg(long)]
+    #[arg(long, short, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Write one output row every N steps.
     #[arg(long)]
@@ -221,10 +221,10 @@ pub struct SettleArgs {
 pub struct RenderArgs {
     /// What to draw: fibres.pvd or a vtk/fibres_<step>.vtp frame, trajectory.csv, checkpoint.json, or a scenario .toml (its start).
     pub input: PathBuf,
-    /// Output file [default: beside the input, <stem>.png, or <stem>.gif with --gif].
-    #[arg(short = 'o', long = "output")]
+    /// The picture to write, its format from the extension: NAME.png (a still) or NAME.gif (every frame animated, as --gif); its folder is created [default: beside the input, <stem>.png, or <stem>.gif with --gif].
+    #[arg(short = 'o', long = "out", alias = "output", value_name = "FILE")]
     pub output: Option<PathBuf>,
-    /// Animate every frame (a .pvd or a trajectory.csv) into a GIF.
+    /// Animate every frame (a .pvd or a trajectory.csv) into a GIF (the default with -o NAME.gif).
     #[arg(long)]
     pub gif: bool,
     /// Colour by: speed, angle_z (axis against z), contacts, material, kinetic_energy, omega, z, id, or none.
@@ -295,7 +295,7 @@ pub struct StressArgs {
     #[arg(long = "outcome-tol", default_value_t = crate::study::stress::OUTCOME_TOL_PCT, allow_hyphen_values = true)]
     pub outcome_tol: f64,
     /// Output folder.
-    #[arg(long, default_value = "out/stress")]
+    #[arg(long, short, default_value = "out/stress", value_name = "DIR")]
     pub out: PathBuf,
     /// No progress bars and no table on stdout.
     #[arg(long, short)]
@@ -316,7 +316,7 @@ pub struct CompareArgs {
     #[arg(long = "t-end", allow_hyphen_values = true)]
     pub t_end: Option<f64>,
     /// Output folder [default: out/<scenario>/compare].
-    #[arg(long)]
+    #[arg(long, short, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// No progress bars and no table on stdout.
     #[arg(long, short)]
@@ -365,10 +365,10 @@ pub struct PlotArgs {
     /// CSV files: energy.csv, orientation.csv (run); compare.csv (compare); convergence.csv, orders.csv, reference.csv (converge); stress.csv, stress_runs.csv (stress).
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
-    /// Output figure, .png or .svg [default: next to the first file].
-    #[arg(short = 'o', long = "output")]
+    /// The figure to write, its format from the extension: NAME.png or NAME.svg (others are refused); its folder is created [default: next to the first file].
+    #[arg(short = 'o', long = "out", alias = "output", value_name = "FILE")]
     pub output: Option<PathBuf>,
-    /// Column to plot [default: the first with data of energy_error_pct, err_rad, alpha_rad, energy_error_full_max_pct, max_error, order, richardson_alpha_rad, largest_stable_factor, ax].
+    /// Column to plot [default: the first with data of energy_error_full_pct (the conserved full budget), err_rad, alpha_rad, energy_error_full_max_pct, max_error, order, richardson_alpha_rad, largest_stable_factor, ax].
     #[arg(long)]
     pub column: Option<String>,
     /// Column on the x axis [default: the first of t, dt, factor, wall_s, nominal_order, recommended_dt].
@@ -411,7 +411,7 @@ pub struct RunArgs {
     #[arg(long = "t-end", allow_hyphen_values = true)]
     pub t_end: Option<f64>,
     /// Output folder [default: out/<scenario>/<rotator>].
-    #[arg(long)]
+    #[arg(long, short, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Write one output row every N steps [default: at most 2e4 rows; every row also carries the largest error since the previous row].
     #[arg(long, allow_negative_numbers = true)]

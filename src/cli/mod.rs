@@ -355,6 +355,7 @@ fn settle(mut plan: plan::SettlePlan) -> Result<()> {
 fn render(p: plan::RenderPlan) -> Result<()> {
     use crate::render::{animate, still, Source};
     let source = Source::open(&p.input, p.scenario.as_deref())?;
+    crate::output::create_parent_dir(&p.output, "--out")?;
     if p.gif {
         let n = animate(&source, &p.opts, p.fps, &p.output)?;
         println!("{} ({n} frames)", p.output.display());

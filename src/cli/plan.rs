@@ -874,9 +874,37 @@ impl RenderArgs {
                 ),
             ));
         }
-        let output = self
-            .output
-            .unwrap_or_else(|| crate::render::default_output(&self.input, self.gif));
+        // The format is the extension's: a still PNG or an animated GIF.
+        let (output, gif) = match self.output {
+            None => (
+                crate::render::default_output(&self.input, self.gif),
+                self.gif,
+            ),
+            Some(o) => {
+                let ext = o
+                    .extension()
+                    .and_then(|e| e.to_str())
+                    .map(str::to_ascii_lowercase);
+                match ext.as_deref() {
+                    Some("png") if self.gif => {
+                        return Err(Error::bad(
+                            "command line",
+                            "--gif",
+                            format!("--gif writes an animation, but `{}` names a PNG; give -o NAME.gif, or drop --gif for a still", o.display()),
+                        ))
+                    }
+                    Some("png") => (o, false),
+                    Some("gif") => (o, true),
+                    _ => {
+                        return Err(Error::bad(
+                            "command line",
+                            "--out",
+                            format!("`{}`: render writes PNG (a still) or GIF (an animation), chosen by the extension; give -o NAME.png or -o NAME.gif", o.display()),
+                        ))
+                    }
+                }
+            }
+        };
         Ok(RenderPlan {
             opts: crate::render::RenderOptions {
                 field,
@@ -890,7 +918,7 @@ impl RenderArgs {
             fps: positive_flag("--fps", self.fps)?,
             input: self.input,
             output,
-            gif: self.gif,
+            gif,
             step: self.step,
             scenario: self.scenario,
         })

@@ -129,6 +129,7 @@ pub fn generate(o: &GenerateOptions) -> Result<GenerateReport> {
             rot: RotState { q: p.q, omega_b },
         });
     }
+    crate::output::create_parent_dir(&o.out, "--out")?;
     let body_file = body_file_of(&o.out);
     let ids = Ids::Sequential(bodies.len());
     crate::scenario::body_file::write(

@@ -124,6 +124,7 @@ pub fn replicate(scene: &Scene, o: &ReplicateOptions) -> Result<ReplicateReport>
     } else {
         0.0
     };
+    crate::output::create_parent_dir(&o.out, "--out")?;
     let body_file = super::body_file_of(&o.out);
     let material_names: Vec<String> = big.materials.iter().map(|m| m.name.clone()).collect();
     crate::scenario::body_file::write(

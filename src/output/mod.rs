@@ -35,6 +35,24 @@ pub fn create_out_dir(dir: &std::path::Path) -> crate::error::Result<()> {
     })
 }
 
+/// Create the folder a written file goes in (`generate -o new/bed.toml`, as
+/// `run --out` creates its folder); failure is bad input naming `flag`.
+pub fn create_parent_dir(file: &std::path::Path, flag: &str) -> crate::error::Result<()> {
+    match file.parent().filter(|d| !d.as_os_str().is_empty()) {
+        None => Ok(()),
+        Some(dir) => std::fs::create_dir_all(dir).map_err(|e| {
+            crate::error::Error::bad(
+                dir.display().to_string(),
+                flag,
+                format!(
+                    "cannot create the folder of {}: {e}; choose another path with {flag}",
+                    file.display()
+                ),
+            )
+        }),
+    }
+}
+
 /// An output file that cannot be created when a run starts is bad input
 /// naming `--out` (exit 2); the same failure mid-run stays an I/O error.
 pub fn unwritable_at_start(e: crate::error::Error) -> crate::error::Error {

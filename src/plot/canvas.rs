@@ -106,14 +106,14 @@ pub(super) trait Figure {
     ) -> Result<(), String>;
 }
 
-enum Format {
+pub(super) enum Format {
     Png,
     Svg,
 }
 
 impl Format {
     /// The format named by the extension of `path`, case-insensitive.
-    fn of(path: &Path) -> Result<Format, PlotError> {
+    pub(super) fn of(path: &Path) -> Result<Format, PlotError> {
         let ext = path
             .extension()
             .and_then(|e| e.to_str())

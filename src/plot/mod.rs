@@ -36,6 +36,12 @@ pub fn render(chart: &Chart, path: &Path) -> Result<(), PlotError> {
     canvas::render_figure(chart, path)
 }
 
+/// Whether `path` names a format [`render`] writes (`.png` or `.svg`), so a
+/// command can refuse it before any work.
+pub fn check_format(path: &Path) -> Result<(), PlotError> {
+    canvas::Format::of(path).map(|_| ())
+}
+
 /// Render `map` to `path` (`.png` or `.svg`); deterministic like [`render`].
 pub(crate) fn render_map(map: &CellMap, path: &Path) -> Result<(), PlotError> {
     canvas::render_figure(map, path)

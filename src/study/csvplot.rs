@@ -277,6 +277,10 @@ pub fn plot_files(opts: &PlotOptions) -> Result<PathBuf> {
             "give at least one CSV file",
         ));
     }
+    // A format we do not write is refused before any work.
+    if let Some(out) = &opts.out {
+        crate::plot::check_format(out).map_err(plot_error)?;
+    }
     let mut chart = Chart::new("", "", "");
     let mut y_name = String::new();
     let mut x_name = String::new();
@@ -391,6 +395,7 @@ pub fn plot_files(opts: &PlotOptions) -> Result<PathBuf> {
             y_name
         ))
     });
+    crate::output::create_parent_dir(&out, "--out")?;
     crate::plot::render(&chart, &out).map_err(plot_error)?;
     Ok(out)
 }

@@ -104,7 +104,7 @@ pub(crate) fn render_both(chart: &Chart, dir: &Path, stem: &str) -> Result<()> {
 /// write (only `fibresim plot -o` chooses one), else an I/O error.
 pub(crate) fn plot_error(e: PlotError) -> Error {
     if let PlotError::UnsupportedFormat { .. } = e {
-        return Error::bad("command line", "-o", e.to_string());
+        return Error::bad("command line", "--out", e.to_string());
     }
     Error::io(e.path(), std::io::Error::other(e.to_string()))
 }

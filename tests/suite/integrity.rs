@@ -330,7 +330,7 @@ fn the_default_folder_is_replaced_with_a_note() {
     assert!(first.status.success(), "{}", stderr(&first));
     assert!(!stderr(&first).contains("note:"), "{}", stderr(&first));
     let folder = dir.path().join("out/base/pcdm");
-    assert!(folder.join("vtk/fibres_500.vtp").exists());
+    assert!(folder.join("vtk/fibres_0500.vtp").exists());
     let second = run(&[]);
     assert!(second.status.success(), "{}", stderr(&second));
     let note = stderr(&second);

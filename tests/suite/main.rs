@@ -21,6 +21,7 @@ mod defaults;
 mod first_hour;
 mod free_flight;
 mod guards;
+mod habits;
 mod integrity;
 mod loader_fuzz;
 mod messages;

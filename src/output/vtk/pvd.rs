@@ -50,6 +50,33 @@ impl Pvd {
         Ok(())
     }
 
+    /// Rename every frame the collection lists by `rename` (the frames of a
+    /// resumed series renumbered), keeping each entry's time.
+    pub fn rewrite_files(&mut self, rename: impl Fn(&str) -> String) -> Result<()> {
+        let path = &self.path;
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let body = text
+            .get(..self.body_len as usize)
+            .ok_or_else(|| Error::io(path, std::io::Error::other("shorter than its checkpoint")))?;
+        let mut out = String::with_capacity(text.len());
+        for line in body.split_inclusive('\n') {
+            match line.split_once(" file=\"") {
+                Some((head, rest)) => match rest.split_once('"') {
+                    Some((file, tail)) => {
+                        out += &format!("{head} file=\"{}\"{tail}", rename(file));
+                    }
+                    None => out += line,
+                },
+                None => out += line,
+            }
+        }
+        // Whole or not at all (a temporary file renamed over it), then
+        // opened again to go on appending.
+        self.file = None;
+        crate::output::file::write_whole(path, (out.clone() + TAIL).as_bytes())?;
+        self.reopen(out.len() as u64)
+    }
+
     /// Add the frame `file` (relative to the collection) at time `t`.
     pub fn push(&mut self, t: f64, file: &str) -> Result<()> {
         let path = &self.path;
