@@ -84,4 +84,14 @@ mod tests {
         }
         assert_eq!(short3([0.0, -4.5, 0.1 + 0.2]), "[0, -4.5, 0.3]");
     }
+
+    #[test]
+    fn short_hides_the_rounding_of_n_dt_and_nothing_else() {
+        assert_eq!(75_000.0 * 2e-5, 1.5000000000000002);
+        assert_eq!(short(75_000.0 * 2e-5), "1.5");
+        assert_eq!(short(39_000.0 * 2e-5), "0.78");
+        // 12 significant digits survive.
+        assert_eq!(short(0.123456789012), "0.123456789012");
+        assert_eq!(short(2.5e-300), "2.5e-300");
+    }
 }

@@ -283,7 +283,7 @@ fn settle(mut plan: plan::SettlePlan) -> Result<()> {
                 if settled { "settled" } else { "NOT settled (t_end reached)" },
                 s.steps,
                 s.dt,
-                crate::output::short(s.steps as f64 * s.dt),
+                crate::fmt::short(s.steps as f64 * s.dt),
                 ke / n,
                 settle.ke_per_body
             ),
@@ -346,7 +346,7 @@ fn settle(mut plan: plan::SettlePlan) -> Result<()> {
         Err(Error::bad(
             &scene.source,
             "--t-end",
-            format!("the bed did not settle by t = {} s (kinetic energy {:.3e} J per fibre); the unsettled bed was written anyway; give a longer --t-end", crate::output::short(s.steps as f64 * s.dt), ke / n),
+            format!("the bed did not settle by t = {} s (kinetic energy {:.3e} J per fibre); the unsettled bed was written anyway; give a longer --t-end", crate::fmt::short(s.steps as f64 * s.dt), ke / n),
         ))
     }
 }
@@ -361,7 +361,12 @@ fn render(p: plan::RenderPlan) -> Result<()> {
         println!("{} ({n} frames)", p.output.display());
     } else {
         let f = still(&source, p.step, &p.opts, &p.output)?;
-        println!("{} (step {}, t = {} s)", p.output.display(), f.step, f.t);
+        println!(
+            "{} (step {}, t = {} s)",
+            p.output.display(),
+            f.step,
+            crate::fmt::short(f.t)
+        );
     }
     Ok(())
 }

@@ -79,14 +79,6 @@ pub fn num(x: f64) -> String {
     ryu::Buffer::new().format(x).to_string()
 }
 
-/// `x` to 12 significant digits, for messages: a time `n·δt` shows its
-/// rounding in shortest form (75 000 × 2e-5 = 1.5000000000000002).
-pub fn short(x: f64) -> String {
-    format!("{x:.11e}")
-        .parse::<f64>()
-        .map_or_else(|_| num(x), num)
-}
-
 /// A CSV row builder that formats numbers without allocating: fields
 /// separated by `,`, the row ended by `\n` (numbers and column names need no
 /// quoting).
@@ -163,18 +155,5 @@ mod itoa_like {
                 }
             }
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn short_hides_the_rounding_of_n_dt_and_nothing_else() {
-        assert_eq!(75_000.0 * 2e-5, 1.5000000000000002);
-        assert_eq!(super::short(75_000.0 * 2e-5), "1.5");
-        assert_eq!(super::short(39_000.0 * 2e-5), "0.78");
-        // 12 significant digits survive.
-        assert_eq!(super::short(0.123456789012), "0.123456789012");
-        assert_eq!(super::short(2.5e-300), "2.5e-300");
     }
 }

@@ -40,8 +40,8 @@ pub fn scene_from_checkpoint(c: &Checkpoint, t_end: Option<f64>) -> Result<Scene
             format!(
                 "the checkpoint is at step {} (t = {}), past t_end = {}",
                 c.step,
-                crate::output::short(c.t),
-                crate::output::short(scene.sim.t_end())
+                crate::fmt::short(c.t),
+                crate::fmt::short(scene.sim.t_end())
             ),
         ));
     }
