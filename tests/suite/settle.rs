@@ -117,7 +117,7 @@ fn settle_refuses_elastic_scenes_and_reports_an_unsettled_bed() {
     let o = fibresim(&a.iter().map(String::as_str).collect::<Vec<_>>());
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("did not settle by t = 0.001 s"), "{err}");
+    assert!(err.contains("did not settle by t = 1e-3 s"), "{err}");
     assert!(std::fs::read_to_string(&write)
         .unwrap()
         .contains("NOT settled"));
