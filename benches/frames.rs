@@ -121,7 +121,7 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-/// A checkpoint of 10⁵ and 10⁶ fibres (issue 10, item 8: ≤ 5 s to write at
+/// A checkpoint of 10⁵ and 10⁶ fibres (the target: ≤ 5 s to write at
 /// 10⁶): the driver's copy of the states, the states file (encoded, hashed,
 /// written, renamed) and the JSON.
 fn checkpoint(c: &mut Criterion) {

@@ -1,4 +1,4 @@
-//! One fibre–fibre kernel call per pose (issue 10, item 5): criterion
+//! One fibre–fibre kernel call per pose: criterion
 //! medians of `contact_fibre_fibre` for a live pair of each feature type and
 //! for the near misses a broad phase hands over. Test case 1's fibre
 //! (D = 10 mm, L = 25 mm), live overlaps 10 µm, poses placed in closed form

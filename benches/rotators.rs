@@ -1,4 +1,4 @@
-//! ns per body-step of each rotator on test case 4 (issue 2, item 8).
+//! ns per body-step of each rotator on test case 4.
 //!
 //! Three figures per rotator: the whole `World::step` with the paper's torque
 //! (what a run pays), with a zero torque (the rotator's own arithmetic plus

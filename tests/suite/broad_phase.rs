@@ -1,7 +1,7 @@
 //! The contact stage's neighbour list finds every contact a full search finds:
 //! forces, torques and elastic energy are bit-identical to evaluating every
 //! pair and every wall with the same kernels in the same order, at every step
-//! of a dense, colliding scene (issue 3, broad phase). Both remember each
+//! of a dense, colliding scene. Both remember each
 //! pair's last end-involved scan the same way (the search by pair, the
 //! stage along its list, carried across its rebuilds).
 

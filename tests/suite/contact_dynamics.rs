@@ -1,4 +1,4 @@
-//! Contact dynamics with whole runs (issue 3, item 7). Each reference value is a
+//! Contact dynamics with whole runs. Each reference value is a
 //! conservation law, a symmetry, or the closed-form Hertz collision time.
 
 use crate::common;

@@ -260,7 +260,7 @@ fn parallel_side_by_side_is_two_point_line_contact() {
     assert!(close(sum, 2.0 * d0, 1e-12), "{c3:?}");
 }
 
-/// Issue 10's oddity: an exactly parallel side-by-side pair got a one-step
+/// An oddity once seen: an exactly parallel side-by-side pair got a one-step
 /// torque pulse of ~45 % of F·L/2 when rounding picked the crossing
 /// (closest points mid-overlap) instead of the overlap's ends. Reference:
 /// at exact parallel the torque is zero by symmetry, and the line model is

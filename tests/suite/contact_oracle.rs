@@ -1,5 +1,5 @@
 //! An oracle for end-involved fibre–fibre contacts that owes nothing to
-//! parry or to the kernel's own search (issue 3: "check every parry answer
+//! parry or to the kernel's own search ("check every parry answer
 //! you keep"; parry's "no contact" verdict is otherwise unchecked).
 //!
 //! Reference: for convex bodies the penetration depth is the minimum over

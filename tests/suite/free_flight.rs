@@ -100,7 +100,7 @@ fn reversibility_is_as_listed() {
     }
 }
 
-/// The long-run and reversibility table of every rotator (issue 14):
+/// The long-run and reversibility table of every rotator:
 /// 10⁶ steps on the asymmetric top (1e-4 s) and on the precessing fibre
 /// (1e-5 s), energy and angular momentum against their start, orientation
 /// against the closed form, and the round trip (forward 2 s at 5e-3 s on

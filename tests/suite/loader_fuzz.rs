@@ -1,4 +1,4 @@
-//! Property test of the scenario loader (issue 5, item 4): arbitrary and
+//! Property test of the scenario loader: arbitrary and
 //! mutated input never panics; it loads or fails as bad input (exit code 2).
 //! Counts: 4000 arbitrary strings + 6000 byte-level mutations of the shipped
 //! scenarios per `cargo test` run (proptest's default seed varies per run),

@@ -1,4 +1,4 @@
-//! MPI ranks give the bytes of one process (issue 13): a dense scene with
+//! MPI ranks give the bytes of one process: a dense scene with
 //! live contacts, neighbour-list rebuilds and owners migrating between
 //! slabs, run under `mpirun -np K` (K = 1, 2; 3 and 4 with
 //! `--oversubscribe` in the ignored test), writes the `energy.csv`,

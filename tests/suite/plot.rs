@@ -691,7 +691,7 @@ fn line_markers_draw_one_shape_per_point() {
     assert!(!inside(&frame, &img.pixels(BLUE)).is_empty());
 }
 
-/// Issue 12, item 13 (plotters issue #549): a spiky series drawn with a
+/// A spiky series (plotters issue #549) drawn with a
 /// 2 px line puts no pixel of its colour outside the frame in PNG (before,
 /// the line's outline polygon covered the tick labels and the title).
 #[test]
@@ -835,7 +835,7 @@ fn corner_lines(title: &str, label: &str) -> Chart {
     chart
 }
 
-/// Issue 12, item 16: the legend goes to a free corner, else outside the
+/// the legend goes to a free corner, else outside the
 /// plot, never over data; with data in every corner it is outside, right
 /// of the frame.
 #[test]
@@ -898,7 +898,7 @@ fn long_title_stays_on_the_canvas_beside_an_outside_legend() {
     );
 }
 
-/// Issue 12, item 15: a series equal to an earlier one is dashed over it
+/// a series equal to an earlier one is dashed over it
 /// and its legend says `(= …)`; one within a pixel says `(≈ …)`.
 #[test]
 fn coincident_series_are_told_apart() {
@@ -959,7 +959,7 @@ fn run_ok(args: &[&str]) {
     );
 }
 
-/// Issue 12, item 14: a rotator has one colour in every figure, whatever
+/// a rotator has one colour in every figure, whatever
 /// else is in it: pcdm alone is drawn in pcdm's colour, not in the first
 /// palette colour (euler's), in `compare`, `converge`, `plot` and the
 /// stress map (its row marker).
@@ -1044,7 +1044,7 @@ fn one_colour_per_rotator_in_every_figure() {
     assert!(polylines(&s, &euler).is_empty(), "stress map");
 }
 
-/// Issue 12, item 17: `plot --signed` shows gain and loss; the default is
+/// `plot --signed` shows gain and loss; the default is
 /// the absolute error, and each figure's title says which.
 #[test]
 fn signed_energy_error() {
@@ -1087,7 +1087,7 @@ fn signed_energy_error() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("--signed"));
 }
 
-/// Issue 12, item 18: every CSV file `plot --help` names plots with its
+/// every CSV file `plot --help` names plots with its
 /// defaults, and the help names every CSV file the commands write.
 #[test]
 fn every_file_plot_help_names_is_plottable() {

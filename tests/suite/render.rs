@@ -1,4 +1,4 @@
-//! `fibresim render` (issue 11): every input kind gives a PNG of the asked
+//! `fibresim render`: every input kind gives a PNG of the asked
 //! size; the camera puts a fibre where the orthographic projection says and
 //! as long as it is; the nearer of two crossing fibres is drawn on top; a
 //! GIF has one frame per VTK frame; bad flags and inputs are exit 2.

@@ -1,4 +1,4 @@
-//! Interrupt and resume (issue 5): a run of 2T gives the same bytes as a run of
+//! Interrupt and resume: a run of 2T gives the same bytes as a run of
 //! T followed by a resumed run to 2T, with contacts, with a prescribed torque,
 //! and after a real SIGINT.
 

@@ -1,4 +1,4 @@
-//! Rotator accuracy against closed forms and invariants (issue 2, item 7).
+//! Rotator accuracy against closed forms and invariants.
 
 use crate::common;
 use common::*;
@@ -39,7 +39,7 @@ fn test_case_3_against_closed_form() {
         println!("{:<11} {ang:<17.3e} {xerr:<13.4} {:.7}", kind.name(), x.x);
         errs.insert(kind, (ang, xerr));
     }
-    // Done-when of issue 2: pcdm (mid-step torque) within 1e-6 rad.
+    // The target: pcdm (mid-step torque) within 1e-6 rad.
     assert!(errs[&RotatorKind::Pcdm].0 < 1e-6);
     // pcdm-start and scalar have the size of the paper's PCDM (0.63 %) and
     // scalar (2.15 %) errors, but they lag the closed form (x too large)

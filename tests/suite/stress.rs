@@ -1,4 +1,4 @@
-//! The stress suite (issue 5): a tiny subset, so it stays fast.
+//! The stress suite: a tiny subset, so it stays fast.
 
 use fibresim::integrate::rotate::RotatorKind;
 use fibresim::study::stress::{

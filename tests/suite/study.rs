@@ -1,4 +1,4 @@
-//! The study commands: `compare`, `converge`, `plot` (issue 4). Short runs only.
+//! The study commands: `compare`, `converge`, `plot`. Short runs only.
 
 use crate::common;
 
@@ -637,7 +637,7 @@ fn plot_axis_goes_log_when_data_span_decades() {
 }
 
 /// converge's default rotator set (for `src/cli.rs`) is every scheme, so the
-/// work-precision figure shows each one (issue 4).
+/// work-precision figure shows each one.
 #[test]
 fn converge_default_rotators_are_all_schemes() {
     use fibresim::study::{converge::DEFAULT_ROTATORS, parse_rotators};

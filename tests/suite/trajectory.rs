@@ -1,4 +1,4 @@
-//! `trajectory.csv` (issue 11): its columns, one row per body per cadence,
+//! `trajectory.csv`: its columns, one row per body per cadence,
 //! and a round trip: the last row is `summary.json`'s final state bit for
 //! bit (x, q, v), its world angular velocity the summary's body-frame one
 //! rotated by R(q) (a rotation matrix here, not the library's rotation).

@@ -1,4 +1,4 @@
-//! The VTK time series (issue 11): every file written is read back (the
+//! The VTK time series: every file written is read back (the
 //! `.pvd` and each frame's XML by an XML parser, the appended zlib blocks by
 //! the library's reader) and its fields, values and times checked against
 //! the run's own other outputs: `trajectory.csv` (the exact f64 state, so
