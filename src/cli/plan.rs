@@ -24,12 +24,6 @@ use crate::study::stress::{load_cases, StressCase, StressOptions};
 use glam::DVec3;
 use std::path::{Path, PathBuf};
 
-/// The default scene of `fibresim run` with no scenario.
-pub(crate) const DEFAULT_SCENE: (&str, &str) = (
-    "<built-in nine_fibres>",
-    include_str!("../../scenarios/nine_fibres.toml"),
-);
-
 /// `fibresim run`, checked.
 pub struct RunPlan {
     /// The scene, with the flags' overrides.
@@ -78,7 +72,7 @@ fn run_scene(args: &RunArgs) -> Result<(Scene, String, Vec<String>)> {
     let ((mut scene, warnings), stem) = match &args.scenario {
         Some(p) => (scenario::load_with_warnings(p)?, stem(p)),
         None => (
-            scenario::parse_with_warnings(DEFAULT_SCENE.1, DEFAULT_SCENE.0)?,
+            scenario::parse_with_warnings(scenario::DEFAULT_SCENE.1, scenario::DEFAULT_SCENE.0)?,
             "default".to_string(),
         ),
     };

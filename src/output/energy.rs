@@ -61,6 +61,13 @@ impl EnergyCsv {
     }
 }
 
+/// Every run writes `energy.csv` (registered in [`super::OUTPUTS`]).
+pub fn open(o: &super::Opening) -> Option<Box<dyn Observer>> {
+    let csv = EnergyCsv::new(o.dir, o.every, o.scene.needs_contacts())
+        .with_dissipation(o.scene.damping.is_some());
+    Some(Box::new(csv))
+}
+
 impl Observer for EnergyCsv {
     fn every(&self) -> Option<u64> {
         Some(self.every)

@@ -1,6 +1,7 @@
-//! Observers of the driver loop that write files: `energy.csv`,
-//! `orientation.csv`, `summary.json`, checkpoints, the progress bar, and on
-//! request `trajectory.csv` and the VTK series (`fibres.pvd`, `vtk/`).
+//! Observers of the driver loop that write files: the data outputs of
+//! [`OUTPUTS`] (`energy.csv`, `orientation.csv`, and on request
+//! `trajectory.csv` and the VTK series `fibres.pvd`, `vtk/`), and the run's
+//! bookkeeping: `summary.json`, checkpoints, the progress.
 //!
 //! Numbers are written in their shortest round-trip form (ryu), so files are
 //! exact, compact and identical for identical runs.
@@ -24,6 +25,33 @@ pub use progress::Progress;
 pub use summary::{BodyFinal, Summary, SummaryJson};
 pub use trajectory::TrajectoryCsv;
 pub use vtk::VtkSeries;
+
+use crate::run::Observer;
+use crate::scenario::Scene;
+
+/// What a data output reads to decide whether a run writes it, and to open
+/// it there.
+pub struct Opening<'a> {
+    /// The run's output folder.
+    pub dir: &'a std::path::Path,
+    /// The scene the run steps.
+    pub scene: &'a Scene,
+    /// The ledger's cadence: `simulation.every`, else [`default_every`].
+    pub every: u64,
+    /// Whether this process computes the whole contact stage (one process)
+    /// or only its share of it (an MPI rank): a partial stage's contact
+    /// counts are counted again where they are written.
+    pub whole_contact_stage: bool,
+}
+
+/// Opens an output if the scene declares it (or, like `energy.csv`, always).
+pub type Open = fn(&Opening) -> Option<Box<dyn Observer>>;
+
+/// The data outputs of a run, in the order they write at an event. An
+/// output is one file and one line here; the run's own bookkeeping (the
+/// progress, `summary.json`, the checkpoint, which writes last what the
+/// others recorded) is wired by [`crate::run`].
+pub const OUTPUTS: &[Open] = &[energy::open, orientation::open, trajectory::open, vtk::open];
 /// Create an output folder; failure is bad input naming `--out`.
 pub fn create_out_dir(dir: &std::path::Path) -> crate::error::Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| {

@@ -56,6 +56,12 @@ pub fn bodies_written(scene: &Scene) -> Vec<usize> {
     b
 }
 
+/// `orientation.csv` when a body needs it (registered in
+/// [`super::OUTPUTS`]; see [`OrientationCsv::for_scene`]).
+pub fn open(o: &super::Opening) -> Option<Box<dyn Observer>> {
+    OrientationCsv::for_scene(o.dir, o.every, o.scene).map(|c| Box::new(c) as Box<dyn Observer>)
+}
+
 impl Observer for OrientationCsv {
     fn every(&self) -> Option<u64> {
         Some(self.every)

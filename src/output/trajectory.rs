@@ -41,6 +41,13 @@ pub fn cadence_in(c: &Checkpoint) -> Result<Option<u64>> {
     c.cadence(TRAJECTORY_FILE)
 }
 
+/// `trajectory.csv` when the scene asks for it (`output.trajectory_every`;
+/// registered in [`super::OUTPUTS`]).
+pub fn open(o: &super::Opening) -> Option<Box<dyn Observer>> {
+    let n = o.scene.output.trajectory_every?;
+    Some(Box::new(TrajectoryCsv::new(o.dir, n)))
+}
+
 impl Observer for TrajectoryCsv {
     fn every(&self) -> Option<u64> {
         Some(self.every)

@@ -206,7 +206,7 @@ fn trajectory_scene(input: &Path, scenario: Option<&Path>) -> Result<Scene> {
         serde_json::from_str(&text).map_err(|e| bad(&summary, format!("not JSON ({e}); {fix}")))?;
     let source = v["scenario"].as_str().unwrap_or("");
     if source.starts_with("<built-in") {
-        let (name, text) = crate::cli::plan::DEFAULT_SCENE;
+        let (name, text) = scenario::DEFAULT_SCENE;
         return scenario::parse_str(text, name);
     }
     scenario::load(Path::new(source)).map_err(|_| {

@@ -15,10 +15,7 @@ use crate::error::{Diagnosis, Result};
 use crate::integrate::rotate::RotatorKind;
 use crate::integrate::step::World;
 use crate::output::checkpoint::CHECKPOINT_FILE;
-use crate::output::{
-    Checkpoint, CheckpointFile, EnergyCsv, OrientationCsv, Progress, Summary, SummaryJson,
-    TrajectoryCsv, VtkSeries,
-};
+use crate::output::{Checkpoint, CheckpointFile, Progress, Summary, SummaryJson};
 use crate::scenario::{Scene, SimParams};
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
@@ -127,17 +124,16 @@ pub(crate) fn run_by<'s, S: driver::Stepper<'s>>(
         }
     }
     let every = scene.sim.every_or_default();
-    let mut energy = EnergyCsv::new(dir, every, scene.needs_contacts())
-        .with_dissipation(scene.damping.is_some());
-    let mut orientation = OrientationCsv::for_scene(dir, every, scene);
-    let mut trajectory = scene
-        .output
-        .trajectory_every
-        .map(|n| TrajectoryCsv::new(dir, n));
-    let mut vtk = scene
-        .output
-        .vtk_every
-        .map(|n| VtkSeries::new(dir, n).recounting(!stepper.whole_contact_stage()));
+    let opening = crate::output::Opening {
+        dir,
+        scene,
+        every,
+        whole_contact_stage: stepper.whole_contact_stage(),
+    };
+    let mut outputs: Vec<Box<dyn Observer>> = crate::output::OUTPUTS
+        .iter()
+        .filter_map(|open| open(&opening))
+        .collect();
     let mut progress = progress;
     let mut summary = SummaryJson::new(dir, every).with_settle(opts.settle);
     let checkpoint_path = dir.join(CHECKPOINT_FILE);
@@ -145,16 +141,10 @@ pub(crate) fn run_by<'s, S: driver::Stepper<'s>>(
         path: checkpoint_path.clone(),
         states_file: None,
     };
-    let mut observers: Vec<&mut dyn Observer> = vec![&mut energy];
-    if let Some(o) = &mut orientation {
-        observers.push(o);
-    }
-    if let Some(o) = &mut trajectory {
-        observers.push(o);
-    }
-    if let Some(o) = &mut vtk {
-        observers.push(o);
-    }
+    let mut observers: Vec<&mut dyn Observer> = outputs
+        .iter_mut()
+        .map(|o| &mut **o as &mut dyn Observer)
+        .collect();
     if let Some(p) = &mut progress {
         observers.push(p);
     }

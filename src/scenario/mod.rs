@@ -29,3 +29,10 @@ pub use output::OutputRequest;
 pub use reference::ClosedForm;
 pub use scene::{Prescribed, Scene, Walls};
 pub use sim::{Guards, SimParams};
+
+/// The scene of `fibresim run` with no scenario (the paper's test case 2),
+/// by the name its outputs record: `render` reads it back by that name.
+pub const DEFAULT_SCENE: (&str, &str) = (
+    "<built-in nine_fibres>",
+    include_str!("../../scenarios/nine_fibres.toml"),
+);

@@ -138,6 +138,15 @@ pub fn cadence_in(c: &Checkpoint) -> Result<Option<u64>> {
     c.cadence(NAME)
 }
 
+/// The VTK series when the scene asks for it (`output.vtk_every`;
+/// registered in [`super::OUTPUTS`]).
+pub fn open(o: &super::Opening) -> Option<Box<dyn Observer>> {
+    let n = o.scene.output.vtk_every?;
+    Some(Box::new(
+        VtkSeries::new(o.dir, n).recounting(!o.whole_contact_stage),
+    ))
+}
+
 impl Observer for VtkSeries {
     fn every(&self) -> Option<u64> {
         Some(self.every)
