@@ -173,7 +173,7 @@ pub struct SettleArgs {
     /// Give up after this simulated time, s [default: the scenario's t_end].
     #[arg(long = "t-end")]
     pub t_end: Option<f64>,
-    /// Settled when the kinetic energy (translation + rotation) per fibre is at most this, J [default: 1e-4 x the mean m g D].
+    /// Settled when the kinetic energy (translation + rotation) per fibre is at most this, J [default: 1e-4 x the mean m g D], and under gravity every fibre touches a fibre or a wall.
     #[arg(long)]
     pub ke_per_fibre: Option<f64>,
     /// Test the threshold every N steps [default: 100, or the resumed checkpoint's].

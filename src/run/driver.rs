@@ -50,10 +50,23 @@ pub struct Settle {
 }
 
 impl Settle {
-    /// Whether `w` has settled.
+    /// Whether `w` has settled: its kinetic energy per body is at most the
+    /// threshold and, under gravity, every body rests on something. Low
+    /// kinetic energy alone is also the state of a bed released at rest,
+    /// and of a body at the top of its bounce; a body at rest under gravity
+    /// with nothing to touch is falling. The count of touching pairs (one
+    /// pass of the kernels) is asked only once the energy is low.
     pub fn reached(&self, w: &World) -> bool {
         let ke = w.ledger.translation + w.ledger.rotation;
-        ke <= self.ke_per_body * w.states.len() as f64
+        if ke > self.ke_per_body * w.states.len() as f64 {
+            return false;
+        }
+        match (&w.contacts, w.scene.gravity) {
+            (Some(stage), Some(g)) if g != glam::DVec3::ZERO => {
+                stage.touching_per_body().iter().all(|&n| n > 0)
+            }
+            _ => true,
+        }
     }
 }
 

@@ -678,7 +678,7 @@ fn ctrl_c_on_run_names_the_command_that_resumes_it() {
 }
 
 /// `settle --resume`: the printed rate counts the steps of this process
-/// only: 9 000 of the 39 000 (a checkpoint at 30 000), against its wall
+/// only: 11 000 of the 41 000 (a checkpoint at 30 000), against its wall
 /// time in summary.json.
 #[test]
 fn a_resumed_settle_reports_the_rate_of_its_own_steps() {
@@ -722,7 +722,7 @@ fn a_resumed_settle_reports_the_rate_of_its_own_steps() {
     ]));
     let summary: serde_json::Value =
         serde_json::from_slice(&read_bytes(&o.join("summary.json"))).unwrap();
-    assert_eq!(summary["steps"], 39000);
+    assert_eq!(summary["steps"], 41000);
     let wall = summary["wall_s"].as_f64().unwrap();
     let rate: f64 = out
         .split(" fibre-steps/s")
@@ -730,15 +730,15 @@ fn a_resumed_settle_reports_the_rate_of_its_own_steps() {
         .and_then(|h| h.rsplit('(').next())
         .and_then(|r| r.parse().ok())
         .unwrap_or_else(|| panic!("no rate in: {out}"));
-    let own = 9000.0 * 3.0 / wall;
+    let own = 11000.0 * 3.0 / wall;
     assert!(
         (rate / own - 1.0).abs() < 0.01,
         "printed {rate}, this process {own}: {out}"
     );
-    assert!(out.contains("(9000 of them in this run)"), "{out}");
+    assert!(out.contains("(11000 of them in this run)"), "{out}");
     let ns = summary["ns_per_body_step"].as_f64().unwrap();
     assert!(
-        (ns / (wall * 1e9 / (9000.0 * 3.0)) - 1.0).abs() < 1e-9,
+        (ns / (wall * 1e9 / (11000.0 * 3.0)) - 1.0).abs() < 1e-9,
         "{ns}"
     );
 }

@@ -15,16 +15,50 @@ fn column(row: &str, k: usize) -> f64 {
     row.split(',').nth(k).unwrap().parse().unwrap()
 }
 
-/// Settled (a generous threshold, tested every 50 steps): the run ends at
-/// the first test, and the written bed is elastic, loads, and holds the
-/// run's final states bit for bit (summary.json's `final`).
+/// Under gravity, low kinetic energy is not settled: two fibres released
+/// in the air under a threshold they are far below (1 J) are falling, not
+/// resting, and the bed does not settle before it lands (0.01 s of a fall
+/// of about 0.1 s).
+#[test]
+fn a_bed_released_in_the_air_is_not_settled() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("s.toml");
+    let text = format!("{SCENE}{}{}", fibre(0.05, 0.05), fibre(0.12, 0.04));
+    std::fs::write(&scene, text).unwrap();
+    let write = dir.path().join("settled.toml");
+    let o = fibresim(&[
+        "settle",
+        scene.to_str().unwrap(),
+        "--ke-per-fibre",
+        "1",
+        "--check-every",
+        "50",
+        "--write",
+        write.to_str().unwrap(),
+        "--out",
+        dir.path().join("out").to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("did not settle by t = 0.01 s"), "{err}");
+}
+
+/// Settled (a generous threshold, tested every 50 steps, no gravity so
+/// that no body need rest on another): the run ends at the first test, and
+/// the written bed is elastic, loads, and holds the run's final states bit
+/// for bit (summary.json's `final`).
 #[test]
 fn settle_writes_the_final_states_as_an_elastic_bed() {
     let dir = tempfile::tempdir().unwrap();
     let scene = dir.path().join("s.toml");
     std::fs::write(
         &scene,
-        format!("{SCENE}{}{}", fibre(0.05, 0.05), fibre(0.12, 0.02)),
+        format!(
+            "{}{}{}",
+            SCENE.replace("gravity = [0.0, 0.0, -9.81]", "gravity = [0.0, 0.0, 0.0]"),
+            fibre(0.05, 0.05),
+            fibre(0.12, 0.02)
+        ),
     )
     .unwrap();
     let write = dir.path().join("settled.toml");
