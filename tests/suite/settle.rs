@@ -15,6 +15,22 @@ fn column(row: &str, k: usize) -> f64 {
     row.split(',').nth(k).unwrap().parse().unwrap()
 }
 
+/// `fibresim settle scene` under a generous threshold (1 J per fibre),
+/// tested every 50 steps, writing `dir/settled.toml` with outputs in
+/// `dir/out`, and `extra` flags.
+fn settle_generously(
+    dir: &std::path::Path,
+    scene: &std::path::Path,
+    extra: &[&str],
+) -> std::process::Output {
+    let (write, out) = (dir.join("settled.toml"), dir.join("out"));
+    let mut args = vec!["settle", scene.to_str().unwrap(), "--ke-per-fibre", "1"];
+    args.extend(["--check-every", "50", "--write", write.to_str().unwrap()]);
+    args.extend(["--out", out.to_str().unwrap()]);
+    args.extend(extra);
+    fibresim(&args)
+}
+
 /// Under gravity, low kinetic energy is not settled: two fibres released
 /// in the air under a threshold they are far below (1 J) are falling, not
 /// resting, and the bed does not settle before it lands (0.01 s of a fall
@@ -25,19 +41,7 @@ fn a_bed_released_in_the_air_is_not_settled() {
     let scene = dir.path().join("s.toml");
     let text = format!("{SCENE}{}{}", fibre(0.05, 0.05), fibre(0.12, 0.04));
     std::fs::write(&scene, text).unwrap();
-    let write = dir.path().join("settled.toml");
-    let o = fibresim(&[
-        "settle",
-        scene.to_str().unwrap(),
-        "--ke-per-fibre",
-        "1",
-        "--check-every",
-        "50",
-        "--write",
-        write.to_str().unwrap(),
-        "--out",
-        dir.path().join("out").to_str().unwrap(),
-    ]);
+    let o = settle_generously(dir.path(), &scene, &[]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("did not settle by t = 0.01 s"), "{err}");
@@ -61,22 +65,8 @@ fn settle_writes_the_final_states_as_an_elastic_bed() {
         ),
     )
     .unwrap();
-    let write = dir.path().join("settled.toml");
-    let out = dir.path().join("out");
-    let o = fibresim(&[
-        "settle",
-        scene.to_str().unwrap(),
-        "--ke-per-fibre",
-        "1",
-        "--check-every",
-        "50",
-        "--write",
-        write.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--write-dt",
-        "1e-6",
-    ]);
+    let (write, out) = (dir.path().join("settled.toml"), dir.path().join("out"));
+    let o = settle_generously(dir.path(), &scene, &["--write-dt", "1e-6"]);
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(stdout.contains("settled after 50 steps"), "{stdout}");
