@@ -9,11 +9,15 @@
 //! switching sets.
 //!
 //! The pieces: [`dispatch`] maps a shape pair to its kernel
-//! ([`fibre_wall`], [`fibre_fibre`]); `laws.rs` builds each Hertz law
-//! ([`hertz`]) once per pair of contact kinds; [`broad`] keeps the
-//! candidate pairs; [`stage`] applies the forces. Models, limits and their
-//! history: docs/contacts.md.
+//! ([`fibre_wall`], [`fibre_fibre`]); `law/` turns a contact point into
+//! its loads (the Hertz law [`hertz`], the restitution [`damping`]), its
+//! constants tabled once per pair of contact kinds; [`broad`] keeps the
+//! candidate pairs; `blocks.rs` is the one loop over them; `ledger.rs`
+//! accounts the work of the non-conservative loads; [`stage`] runs a
+//! computation. Models, limits and their history: docs/contacts.md; the
+//! pipeline: docs/architecture.md.
 
+pub(crate) mod blocks;
 pub mod broad;
 pub mod damping;
 pub mod dispatch;
@@ -21,12 +25,12 @@ pub mod fibre_fibre;
 pub mod fibre_wall;
 pub mod hertz;
 mod hertz_spheres;
-mod laws;
+pub(crate) mod law;
+pub(crate) mod ledger;
 pub(crate) mod memory;
 pub(crate) mod overlap_check;
 #[cfg(feature = "replay")]
 pub mod replay;
-pub(crate) mod slots;
 pub mod sphere;
 pub mod sphere_fibre;
 pub mod sphere_sphere;

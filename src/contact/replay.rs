@@ -1,12 +1,13 @@
 //! Kernel replay, a measuring tool (cargo feature `replay`; no default
 //! build has it): what share of a step the fibre–fibre kernels take, found
 //! by taking them away. A first run of a scene records, for every call of
-//! the serial pair loop (one thread), its class, its contact points and
-//! the pair's memory after it; a second run of the same scene and flags
-//! replays the calls of chosen classes instead of computing them. The
-//! replayed calls give the same points and leave the same memories, so the
-//! second run is the first bit for bit (its `energy.csv` is the same
-//! file), less those kernels' work. `scripts/kernel_share.sh` runs both.
+//! the pair loop (on one thread: [`Replaying`] keeps the candidate loop
+//! there), its class, its contact points and the pair's memory after it; a
+//! second run of the same scene and flags replays the calls of chosen
+//! classes instead of computing them. The replayed calls give the same
+//! points and leave the same memories, so the second run is the first bit
+//! for bit (its `energy.csv` is the same file), less those kernels' work.
+//! `scripts/kernel_share.sh` runs both.
 //!
 //! `FIBRESIM_REPLAY=record:PATH` writes `PATH.calls` (per call: class, point
 //! count, memory), `PATH.points` and `PATH.computations` (the calls before
@@ -21,8 +22,9 @@
 //! - `dispatch`: every other call (side–side, remembered answers that took
 //!   the dispatch, capsules apart).
 
+use super::blocks::PairKernel;
 use super::fibre_fibre::PairMemory;
-use super::{ContactPoint, KernelCounters};
+use super::{contacts_remembering, Collider, ContactPoint, FibreGeom, KernelCounters};
 use glam::DVec3;
 use std::cell::RefCell;
 use std::io::Write;
@@ -71,6 +73,46 @@ enum Mode {
 
 thread_local! {
     static MODE: RefCell<Option<Mode>> = const { RefCell::new(None) };
+}
+
+/// The candidate loop's fibre pairs, recorded or replayed as
+/// `FIBRESIM_REPLAY` asks: each call either answered from the recording
+/// (its class replayed) or computed by the kernels (and, when recording,
+/// recorded with its class).
+pub struct Replaying;
+
+impl PairKernel for Replaying {
+    const ONE_THREAD: bool = true;
+
+    fn computation(&self) {
+        computation();
+    }
+
+    #[inline]
+    fn contacts(
+        &self,
+        a: &FibreGeom,
+        b: &FibreGeom,
+        out: &mut Vec<ContactPoint>,
+        counters: &mut KernelCounters,
+        memory: &mut PairMemory,
+        motion: f64,
+    ) {
+        if replayed(out, memory) {
+            return;
+        }
+        let (kept_before, counted) = (memory.in_regime(), *counters);
+        let (a, b) = (Collider::Fibre(a), Collider::Fibre(b));
+        contacts_remembering(a, b, out, counters, Some((memory, motion)));
+        if recording() {
+            record(classify(kept_before, &counted, counters), out, memory);
+        }
+    }
+}
+
+/// Whether this run records or replays (`FIBRESIM_REPLAY` is set).
+pub fn active() -> bool {
+    with_mode(|mode| !matches!(mode, Mode::Off))
 }
 
 /// What a call did, from the memory before it and the counters' change.

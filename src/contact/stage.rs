@@ -1,22 +1,22 @@
 //! The force stage of a contact scene (Yade's chain: geometry → physical
 //! parameters → force law). Built only when the scene can have contacts.
 //!
-//! Per step: fibre poses → broad phase (a neighbour list, rebuilt when bodies
-//! have moved) → kernels by shape pair ([`dispatch`](super::dispatch)) →
-//! Hertz force per contact point (laws tabled at construction) → force
-//! `w F(δ) n` at `p` and torque `(p − x) × F` on each body (the opposite on
-//! body B). Deterministic: fixed loop order, sorted pairs.
+//! Per computation: fibre poses → broad phase (a neighbour list, rebuilt
+//! when bodies have moved) → the one candidate loop (`blocks.rs`): kernels
+//! by shape pair ([`dispatch`](super::dispatch)) → the contact law per
+//! point (`law/`, constants tabled at construction) → per-point loads added
+//! to the bodies in list order → the ledger of the non-conservative loads
+//! (`ledger.rs`). Deterministic: fixed blocks, sorted pairs, sums in list
+//! order, on any number of threads. docs/architecture.md.
 
+use super::blocks::{Blocks, Computed, Dissipative};
 use super::broad::NeighbourList;
-use super::damping::{Damping, DampingPass, Restitution};
+use super::damping::Restitution;
 use super::fibre_fibre::{dome_sag, PairMemory};
-use super::laws::LawTable;
+use super::law::{LawTable, Laws};
+use super::ledger::WorkLedger;
 use super::memory::{entries, Entry};
-use super::slots::Slots;
-use super::{
-    box_walls, contacts, contacts_remembering, Collider, ContactPoint, FibreGeom, HertzLaw,
-    KernelCounters, Wall, Walls,
-};
+use super::{box_walls, contacts, Collider, FibreGeom, KernelCounters, Wall, Walls};
 use crate::body::{Body, BodyState, Material, Shape};
 use glam::DVec3;
 
@@ -33,8 +33,8 @@ pub struct ContactStats {
     pub elastic: f64,
 }
 
-/// The contact force stage of a scene: walls, Hertz laws, neighbour list
-/// and the buffers of the kernels, kept between steps.
+/// The contact force stage of a scene: walls, law constants, neighbour
+/// list and the candidate loop's buffers, kept between steps.
 #[derive(Debug, Clone)]
 pub struct ContactStage {
     /// The six walls (none without a box).
@@ -42,12 +42,11 @@ pub struct ContactStage {
     laws: LawTable,
     geoms: Vec<FibreGeom>,
     neighbours: NeighbourList,
-    points: Vec<ContactPoint>,
     counters: KernelCounters,
-    /// Normal dissipation, if the scene declares it.
-    damping: Option<Damping>,
-    /// The parallel path's buffers.
-    slots: Slots,
+    /// The work of the laws' non-conservative loads, if they have any.
+    ledger: Option<WorkLedger>,
+    /// The candidate loop's buffers.
+    blocks: Blocks,
     /// Each body's motion bound since the last computation (m, rounded
     /// up), spent by its pairs' memories (`fibre_fibre/coherence.rs`).
     motion: Vec<f32>,
@@ -115,10 +114,9 @@ impl ContactStage {
             laws: LawTable::new(bodies, materials, walls),
             geoms: Vec::with_capacity(bodies.len()),
             neighbours: NeighbourList::new(SKIN_PER_DIAMETER * thinnest),
-            points: vec![],
             counters: KernelCounters::default(),
-            damping: None,
-            slots: Slots::default(),
+            ledger: None,
+            blocks: Blocks::default(),
             motion: vec![],
             #[cfg(feature = "mpi")]
             gathered: None,
@@ -127,7 +125,8 @@ impl ContactStage {
     }
 
     /// The stage with normal damping of restitution `e` (`None`: elastic)
-    /// for `n` bodies stepped by `dt` under `gravity` (for its ledger).
+    /// for `n` bodies stepped by `dt` under `gravity` (for the ledger of
+    /// its work).
     pub fn with_damping(
         mut self,
         e: Option<Restitution>,
@@ -135,30 +134,31 @@ impl ContactStage {
         dt: f64,
         gravity: Option<DVec3>,
     ) -> Self {
-        self.damping = e.map(|e| Damping::new(e, n, dt, gravity));
+        self.laws = self.laws.with_restitution(e);
+        self.ledger = self
+            .laws
+            .reads_motion()
+            .then(|| WorkLedger::new(n, dt, gravity));
         self
     }
 
-    /// Energy dissipated by the damping up to the last computation's state,
-    /// J (0 without damping).
+    /// Energy dissipated by the non-conservative loads up to the last
+    /// computation's state, J (0 for an elastic law).
     #[inline]
     pub fn dissipated(&self) -> f64 {
-        self.damping.as_ref().map_or(0.0, |d| d.dissipated)
+        self.ledger.as_ref().map_or(0.0, |l| l.dissipated)
     }
 
-    /// The damping ledger's state between steps (`None` without damping;
-    /// [`Damping::ledger_state`]).
+    /// The ledger's state between steps (`None` for an elastic law;
+    /// `ledger.rs`).
     pub fn damping_state(&self) -> Option<[f64; 2]> {
-        self.damping.as_ref().map(Damping::ledger_state)
+        self.ledger.as_ref().map(WorkLedger::state)
     }
 
-    /// Put back a [`ContactStage::damping_state`]; false when the stage has
-    /// no damping.
+    /// Put back a [`ContactStage::damping_state`]; false when the stage's
+    /// law is elastic.
     pub fn set_damping_state(&mut self, state: [f64; 2]) -> bool {
-        self.damping
-            .as_mut()
-            .map(|d| d.set_ledger_state(state))
-            .is_some()
+        self.ledger.as_mut().map(|l| l.set_state(state)).is_some()
     }
 
     /// The pair memories a checkpoint keeps ([`PairMemory::kept_by_checkpoints`]),
@@ -228,9 +228,9 @@ impl ContactStage {
         count
     }
 
-    /// Contact forces and torques (world) at `states`, written into `force` and
-    /// `torque` (overwritten), with the laws of the table built by
-    /// [`ContactStage::new`].
+    /// Contact forces and torques (world) at `states`, written into
+    /// `force` and `torque` (overwritten), with the laws of the table
+    /// built by [`ContactStage::new`].
     pub fn compute(
         &mut self,
         bodies: &[Body],
@@ -238,110 +238,37 @@ impl ContactStage {
         force: &mut [DVec3],
         torque: &mut [DVec3],
     ) {
-        if parallel(bodies.len()) {
-            return self.compute_parallel(bodies, states, force, torque);
+        let workers = workers(bodies.len());
+        self.update_geometry(bodies, states, workers > 1);
+        let laws = Laws::new(&self.laws, bodies, states);
+        self.stats = candidate_loop(
+            &mut self.blocks,
+            &mut self.neighbours,
+            (&self.geoms, &self.motion, &self.walls),
+            &laws,
+            (force, torque),
+            &mut self.counters,
+            self.ledger.as_mut().map(WorkLedger::loads),
+            false,
+            workers,
+        );
+        if let Some(l) = &mut self.ledger {
+            l.account(bodies, states, force);
         }
-        force.fill(DVec3::ZERO);
-        torque.fill(DVec3::ZERO);
-        let mut stats = ContactStats::default();
-        // Geometry in place (the poses change every step, the count never
-        // does): of every fibre when the list is rebuilt, else only of those
-        // in a candidate.
-        self.geoms.resize(bodies.len(), FibreGeom::default());
-        self.motion.resize(bodies.len(), f32::INFINITY);
-        let poses = states
-            .iter()
-            .zip(&self.geoms)
-            .map(|(s, g)| (s.x, s.rot.q, g.half_length));
-        if self.neighbours.still_valid(poses) {
-            for &i in &self.neighbours.active {
-                let i = i as usize;
-                self.motion[i] = move_to(&mut self.geoms[i], geom(&bodies[i], &states[i]));
-            }
-        } else {
-            for (((g, b), s), m) in self
-                .geoms
-                .iter_mut()
-                .zip(bodies)
-                .zip(states)
-                .zip(&mut self.motion)
-            {
-                *m = move_to(g, geom(b, s));
-            }
-            let rotations = states.iter().map(|s| s.rot.q);
-            self.neighbours.build(&self.geoms, rotations, &self.walls);
-        }
-        let mut damping = self.damping.as_mut().map(|d| d.pass(bodies, states));
-
-        for &(i, k) in &self.neighbours.walls {
-            let i = i as usize;
-            let g = &self.geoms[i];
-            self.points.clear();
-            contacts(
-                Collider::Fibre(g),
-                Collider::Wall(&self.walls[k as usize]),
-                &mut self.points,
-                &mut self.counters,
-            );
-            apply_wall(
-                &self.points,
-                self.laws.fibre_wall(i),
-                (g, i),
-                force,
-                torque,
-                &mut stats,
-                damping.as_mut(),
-            );
-        }
-
-        // (Test case 2 has no candidate pairs most of the time: it skips
-        // the call, which showed in its cost.)
-        if !self.neighbours.pairs.is_empty() {
-            pair_contacts(
-                &mut self.neighbours,
-                (&self.geoms, &self.motion),
-                &self.laws,
-                (&mut self.points, &mut self.counters),
-                (force, torque),
-                &mut stats,
-                damping.as_mut(),
-            );
-        }
-        if let Some(d) = &mut self.damping {
-            d.account(bodies, states, force);
-        }
-        self.stats = stats;
     }
-}
 
-/// Scenes of at least this many bodies compute their forces on the thread
-/// pool (when it has more than one thread); smaller ones stay on one
-/// thread, where the pool's overhead would cost more than it saves. Both
-/// paths give the same bits.
-pub const PARALLEL_MIN_BODIES: usize = 256;
-
-/// Whether a scene of `n` bodies runs its stages on the thread pool.
-#[inline]
-pub fn parallel(n: usize) -> bool {
-    n >= PARALLEL_MIN_BODIES && rayon::current_num_threads() > 1
-}
-
-impl ContactStage {
-    /// [`ContactStage::compute`] on the thread pool ([`Slots`]).
-    fn compute_parallel(
-        &mut self,
-        bodies: &[Body],
-        states: &[BodyState],
-        force: &mut [DVec3],
-        torque: &mut [DVec3],
-    ) {
+    /// The kernels' geometry of the bodies at `states` and each body's
+    /// motion bound since the last computation, and the neighbour list
+    /// rebuilt if a body left its skin. One thread updates only the
+    /// bodies in a candidate while the list holds (the others' geometry is
+    /// not read); the pool tests and updates every body in one pass.
+    fn update_geometry(&mut self, bodies: &[Body], states: &[BodyState], pool: bool) {
         use rayon::prelude::*;
         self.geoms.resize(bodies.len(), FibreGeom::default());
         self.motion.resize(bodies.len(), f32::INFINITY);
-        // The list's test and the geometry's update in one pass (a pool
-        // stage fewer): each body is tested at its new pose against the
-        // half length it keeps.
-        let valid = {
+        let valid = if pool {
+            // Each body is tested at its new pose against the half length
+            // it keeps.
             let within = self.neighbours.within_skin(bodies.len());
             self.geoms
                 .par_iter_mut()
@@ -356,150 +283,94 @@ impl ContactStage {
                     kept
                 })
                 .reduce(|| true, |x, y| x && y)
+        } else {
+            let poses = states
+                .iter()
+                .zip(&self.geoms)
+                .map(|(s, g)| (s.x, s.rot.q, g.half_length));
+            let valid = self.neighbours.still_valid(poses);
+            if valid {
+                for &i in &self.neighbours.active {
+                    let i = i as usize;
+                    self.motion[i] = move_to(&mut self.geoms[i], geom(&bodies[i], &states[i]));
+                }
+            } else {
+                let each = self.geoms.iter_mut().zip(&mut self.motion);
+                for ((g, m), (b, s)) in each.zip(bodies.iter().zip(states)) {
+                    *m = move_to(g, geom(b, s));
+                }
+            }
+            valid
         };
         if !valid {
             let rotations = states.iter().map(|s| s.rot.q);
             self.neighbours.build(&self.geoms, rotations, &self.walls);
         }
-        self.stats = self.slots.compute(
-            &mut self.neighbours,
-            &self.geoms,
-            &self.motion,
-            &self.walls,
-            &self.laws,
-            force,
-            torque,
-            &mut self.counters,
-            self.damping.as_mut().map(|d| (d, bodies, states)),
-            false,
-        );
-        if let Some(d) = &mut self.damping {
-            d.account(bodies, states, force);
-        }
     }
 }
 
-/// The fibre pairs' share of [`ContactStage::compute`] on one thread: each
-/// candidate of `list` (with its memory and the bodies' `motion` bounds)
-/// through the kernels into `points`, applied to `force` and `torque`.
-/// (Out of line, with [`apply`] inlined here: inlined into `compute`, its
-/// larger frame cost the scenes without pairs, test case 2 among them.)
-#[inline(never)]
-fn pair_contacts(
-    list: &mut NeighbourList,
-    (geoms, motion): (&[FibreGeom], &[f32]),
-    laws: &LawTable,
-    (points, counters): (&mut Vec<ContactPoint>, &mut KernelCounters),
-    (force, torque): (&mut [DVec3], &mut [DVec3]),
-    stats: &mut ContactStats,
-    mut damping: Option<&mut DampingPass>,
-) {
-    #[cfg(feature = "replay")]
-    super::replay::computation();
-    for (&(a, b), memory) in list.pairs.iter().zip(&mut list.memory) {
-        let (a, b) = (a as usize, b as usize);
-        let (ga, gb) = (&geoms[a], &geoms[b]);
-        points.clear();
-        // (A measuring build may replay this call: `contact/replay.rs`.)
-        #[cfg(feature = "replay")]
-        let replayed = super::replay::replayed(points, memory);
-        #[cfg(not(feature = "replay"))]
-        let replayed = false;
-        if !replayed {
-            #[cfg(feature = "replay")]
-            let (kept_before, counted) = (memory.in_regime(), *counters);
-            contacts_remembering(
-                Collider::Fibre(ga),
-                Collider::Fibre(gb),
-                points,
-                counters,
-                Some((memory, f64::from(motion[a]) + f64::from(motion[b]))),
-            );
-            #[cfg(feature = "replay")]
-            if super::replay::recording() {
-                let class = super::replay::classify(kept_before, &counted, counters);
-                super::replay::record(class, points, memory);
-            }
-        }
-        if points.is_empty() {
-            continue;
-        }
-        apply(
-            points,
-            &laws.fibre_fibre(a, b),
-            (ga, a),
-            Some((gb, b)),
-            force,
-            torque,
-            stats,
-            damping.as_deref_mut(),
-        );
-    }
-}
-
-/// [`apply`] of a wall's points, out of line: inlined into the walls'
-/// loop it made test case 2 dearer (`cargo bench --bench contacts`).
-#[inline(never)]
-fn apply_wall(
-    points: &[ContactPoint],
-    law: &HertzLaw,
-    fibre: (&FibreGeom, usize),
-    force: &mut [DVec3],
-    torque: &mut [DVec3],
-    stats: &mut ContactStats,
-    damping: Option<&mut DampingPass>,
-) {
-    apply(points, law, fibre, None, force, torque, stats, damping);
-}
-
-/// Hertz force of each point on body A (and the reaction on B, if a body),
-/// plus the damping force where the scene declares it. (Inlined: out of
-/// line its eight arguments were passed for every touching pair.)
-#[inline(always)]
+/// The candidate loop ([`Blocks::compute`]) with the kernels, or, in a
+/// measuring build that replays recorded answers, with those
+/// (`replay.rs`).
 #[allow(clippy::too_many_arguments)]
-fn apply(
-    points: &[ContactPoint],
-    law: &HertzLaw,
-    (ga, a): (&FibreGeom, usize),
-    b: Option<(&FibreGeom, usize)>,
-    force: &mut [DVec3],
-    torque: &mut [DVec3],
-    stats: &mut ContactStats,
-    mut damping: Option<&mut DampingPass>,
-) {
-    if points.is_empty() {
-        return;
+fn candidate_loop(
+    blocks: &mut Blocks,
+    list: &mut NeighbourList,
+    scene: (&[FibreGeom], &[f32], &[Wall]),
+    laws: &Laws,
+    loads: (&mut [DVec3], &mut [DVec3]),
+    counters: &mut KernelCounters,
+    dissipative: Option<Dissipative>,
+    keep_hits: bool,
+    workers: usize,
+) -> ContactStats {
+    #[cfg(feature = "replay")]
+    if super::replay::active() {
+        let kernel = super::replay::Replaying;
+        return blocks.compute(
+            &kernel,
+            list,
+            scene,
+            laws,
+            loads,
+            counters,
+            dissipative,
+            keep_hits,
+            workers,
+        );
     }
-    stats.touching += 1;
-    for c in points {
-        let mut f_n = c.weight * law.force(c.overlap);
-        if let Some(d) = damping.as_mut() {
-            let other = b.map(|(gb, b)| (b, gb.centre));
-            let k = law.stiffness();
-            f_n += d.force(
-                (a, ga.centre),
-                other,
-                k,
-                c.weight,
-                c.point,
-                c.normal,
-                c.overlap,
-            );
-        }
-        let f = f_n * c.normal;
-        let u = law.energy(c.overlap);
-        stats.elastic += c.weight * u;
-        // δ/D on each body (they may differ in diameter).
-        stats.note_overlap(c.overlap / (2.0 * ga.radius), a);
-        // Couple of an orientation-dependent weight (zero for walls).
-        let couple = -u * c.weight_grad;
-        force[a] += f;
-        torque[a] += (c.point - ga.centre).cross(f) + couple;
-        if let Some((gb, b)) = b {
-            stats.note_overlap(c.overlap / (2.0 * gb.radius), b);
-            force[b] -= f;
-            torque[b] -= (c.point - gb.centre).cross(f) + couple;
-        }
+    blocks.compute(
+        &Computed,
+        list,
+        scene,
+        laws,
+        loads,
+        counters,
+        dissipative,
+        keep_hits,
+        workers,
+    )
+}
+
+/// Scenes of at least this many bodies compute their forces on the thread
+/// pool (when it has more than one thread); smaller ones stay on one
+/// thread, where the pool's overhead would cost more than it saves. Both
+/// give the same bits.
+pub const PARALLEL_MIN_BODIES: usize = 256;
+
+/// Whether a scene of `n` bodies runs its stages on the thread pool.
+#[inline]
+pub fn parallel(n: usize) -> bool {
+    n >= PARALLEL_MIN_BODIES && rayon::current_num_threads() > 1
+}
+
+/// The threads the candidate loop of a scene of `n` bodies runs on.
+#[inline]
+fn workers(n: usize) -> usize {
+    if parallel(n) {
+        rayon::current_num_threads()
+    } else {
+        1
     }
 }
 
@@ -515,8 +386,8 @@ impl ContactStats {
 
 /// The hooks of an MPI rank's force stage (`src/ranks/`): the rank lists
 /// its own candidates (global body indices, sorted as the one-process list)
-/// and the stage computes them with the parallel path's slots, so every
-/// owned body gathers its contacts in the one-process order.
+/// and the stage computes them with the one candidate loop, so every owned
+/// body gathers its contacts in the one-process order.
 #[cfg(feature = "mpi")]
 impl ContactStage {
     /// Body `i`'s motion bound from its geometry at the last computation
@@ -571,17 +442,19 @@ impl ContactStage {
             self.geoms[i] = geom(&bodies[i], &states[i]);
             self.motion[i] = motion[i];
         }
-        self.slots.compute(
+        // (Damped scenes are not decomposed: the ledger sums every body.)
+        assert!(self.ledger.is_none(), "an elastic law on MPI ranks");
+        let laws = Laws::new(&self.laws, bodies, states);
+        candidate_loop(
+            &mut self.blocks,
             list,
-            &self.geoms,
-            &self.motion,
-            &self.walls,
-            &self.laws,
-            force,
-            torque,
+            (&self.geoms, &self.motion, &self.walls),
+            &laws,
+            (force, torque),
             &mut self.counters,
             None,
             true,
+            workers(bodies.len()),
         );
     }
 
@@ -592,15 +465,17 @@ impl ContactStage {
         list: &NeighbourList,
         f: impl FnMut(bool, u32, &mut dyn Iterator<Item = [f64; 3]>),
     ) {
-        self.slots.for_each_hit(list, &self.geoms, f);
+        self.blocks.for_each_hit(list, &self.geoms, f);
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::contact::blocks::BLOCK;
     use crate::contact::damping::Restitution;
-    use crate::contact::slots::BLOCK;
+    use crate::contact::law::{Record, Side};
+    use crate::contact::{contacts_remembering, ContactPoint};
     use glam::DQuat;
 
     /// A block of 4 × 12 × 12 fibres along x (D = 0.01 m, L = 0.025 m),
@@ -682,14 +557,98 @@ mod tests {
         (bits, stage.stats, stage.dissipated().to_bits())
     }
 
-    /// The pool's stage (`slots.rs`: candidates in fixed blocks, added one
-    /// at a time in order) gives the one-thread stage's bits on a scene of several
-    /// blocks of walls and pairs, elastic and damped, at a first and at a
-    /// second configuration (the blocks' buffers reused, some contacts
-    /// gone, others new). The reference is the one-thread stage, an
-    /// independent code path (`apply`).
+    /// Reference: a plain loop over the candidates of `stage` at `states`,
+    /// each touching one's points through the law and added straight to
+    /// the bodies (no block, no buffer of loads), the statistics noted as
+    /// it goes; with its ledger's work. `stage` is the one-thread stage
+    /// before the computation (its memories as the computation finds
+    /// them).
+    fn plain_loop(
+        stage: &mut ContactStage,
+        bodies: &[Body],
+        states: &[BodyState],
+    ) -> (Vec<[u64; 6]>, ContactStats, u64) {
+        stage.update_geometry(bodies, states, false);
+        let n = bodies.len();
+        let (mut force, mut torque) = (vec![DVec3::ZERO; n], vec![DVec3::ZERO; n]);
+        let (mut df, mut dt) = (vec![DVec3::ZERO; n], vec![DVec3::ZERO; n]);
+        let mut stats = ContactStats::default();
+        let (mut points, mut counters) = (Vec::<ContactPoint>::new(), KernelCounters::default());
+        let table = stage.laws.clone();
+        let laws = Laws::new(&table, bodies, states);
+        let geoms = stage.geoms.clone();
+        let side = |i: usize| Side {
+            index: i,
+            centre: geoms[i].centre,
+        };
+        let mut add = |law: &crate::contact::law::CandidateLaw,
+                       points: &[ContactPoint],
+                       a: usize,
+                       b: Option<usize>| {
+            if points.is_empty() {
+                return;
+            }
+            stats.touching += 1;
+            for c in points {
+                let l = law.load(c, &mut Record);
+                force[a] += l.total.force;
+                torque[a] += l.total.torque_a;
+                let d = l.dissipative.unwrap_or_default();
+                df[a] += d.force;
+                dt[a] += d.torque_a;
+                stats.elastic += l.elastic;
+                stats.note_overlap(c.overlap / (2.0 * geoms[a].radius), a);
+                if let Some(b) = b {
+                    force[b] -= l.total.force;
+                    torque[b] -= l.total.torque_b;
+                    df[b] -= d.force;
+                    dt[b] -= d.torque_b;
+                    stats.note_overlap(c.overlap / (2.0 * geoms[b].radius), b);
+                }
+            }
+        };
+        for &(i, k) in &stage.neighbours.walls {
+            let i = i as usize;
+            points.clear();
+            let wall = Collider::Wall(&stage.walls[k as usize]);
+            contacts(Collider::Fibre(&geoms[i]), wall, &mut points, &mut counters);
+            add(&laws.wall(side(i)), &points, i, None);
+        }
+        let list = &mut stage.neighbours;
+        for (&(a, b), memory) in list.pairs.iter().zip(&mut list.memory) {
+            let (a, b) = (a as usize, b as usize);
+            let motion = f64::from(stage.motion[a]) + f64::from(stage.motion[b]);
+            points.clear();
+            let (fa, fb) = (Collider::Fibre(&geoms[a]), Collider::Fibre(&geoms[b]));
+            contacts_remembering(fa, fb, &mut points, &mut counters, Some((memory, motion)));
+            add(&laws.pair(side(a), side(b)), &points, a, Some(b));
+        }
+        let dissipated = stage.ledger.as_mut().map_or(0.0, |l| {
+            let (f, t) = l.loads();
+            f.copy_from_slice(&df);
+            t.copy_from_slice(&dt);
+            l.account(bodies, states, &force);
+            l.dissipated
+        });
+        let bits = force
+            .iter()
+            .zip(&torque)
+            .map(|(f, t)| {
+                let (f, t) = (f.to_array(), t.to_array());
+                [f[0], f[1], f[2], t[0], t[1], t[2]].map(f64::to_bits)
+            })
+            .collect();
+        (bits, stats, dissipated.to_bits())
+    }
+
+    /// The candidate loop (`blocks.rs`: candidates in fixed blocks, added
+    /// one at a time in order) gives the bits of a plain loop over the
+    /// candidates ([`plain_loop`]) on one thread and on the pool (rings of
+    /// several sizes), on a scene of several blocks of walls and pairs,
+    /// elastic and damped, at a first and at a second configuration (the
+    /// blocks' buffers reused, some contacts gone, others new).
     #[test]
-    fn the_pool_gives_the_bits_of_one_thread() {
+    fn the_loop_gives_the_bits_of_a_plain_loop_on_any_thread_count() {
         let scene = packed(0x9e37_79b9_7f4a_7c15);
         let (bodies, n) = (&scene.bodies, scene.bodies.len());
         // The second configuration: every fibre moved by 3 µs of its velocity
@@ -716,8 +675,17 @@ mod tests {
                     .with_damping(damping, n, 1e-6, None)
             };
             let mut one = new();
+            let mut plain = one.clone();
             let first = on_pool(&mut one, bodies, &scene.initial, 1);
+            assert!(
+                plain_loop(&mut plain, bodies, &scene.initial) == first,
+                "one thread, first configuration, damping {damping:?}"
+            );
             let second = on_pool(&mut one, bodies, &moved, 1);
+            assert!(
+                plain_loop(&mut plain, bodies, &moved) == second,
+                "one thread, second configuration, damping {damping:?}"
+            );
             let list = &one.neighbours;
             assert!(
                 list.walls.len() > BLOCK && list.pairs.len() > 2 * BLOCK,
@@ -738,7 +706,7 @@ mod tests {
             for (threads, ring) in [(2, None), (3, None), (2, Some(1)), (3, Some(2))] {
                 let mut many = new();
                 if let Some(r) = ring {
-                    many.slots.ring = r;
+                    many.blocks.ring = r;
                 }
                 assert!(
                     on_pool(&mut many, bodies, &scene.initial, threads) == first,

@@ -1,13 +1,17 @@
-//! The Hertz law of every pair of contact kinds, built once per scene.
+//! The constants of the contact law for every pair of contact kinds, built
+//! once per scene: the Hertz law of each pair of kinds, and the scene's
+//! restitution damping (one constant for body pairs, one for walls).
 //!
-//! A law depends on a body only through its material and its diameter
-//! ([`HertzLaw`]), so bodies sharing both are one contact kind: a bed of
-//! identical fibres has one kind, one fibre–fibre law and one fibre–wall
-//! law. The laws are built by the same functions, from the same numbers in
-//! the same order, as a law built for each pair would be: bit-identical.
+//! A Hertz law depends on a body only through its material and its
+//! diameter ([`HertzLaw`]), so bodies sharing both are one contact kind: a
+//! bed of identical fibres has one kind, one fibre–fibre law and one
+//! fibre–wall law. The laws are built by the same functions, from the same
+//! numbers in the same order, as a law built for each pair would be:
+//! bit-identical.
 
-use super::{HertzLaw, Walls};
 use crate::body::{Body, Material};
+use crate::contact::damping::{damping_constant, Restitution};
+use crate::contact::{HertzLaw, Walls};
 use std::collections::HashMap;
 
 /// Up to this many kinds the fibre–fibre laws are a dense `kinds²` table
@@ -23,9 +27,12 @@ struct Kind {
     poisson: f64,
 }
 
-/// The Hertz laws of a contact scene.
+/// The law constants of a contact scene.
 #[derive(Clone, Debug)]
 pub(crate) struct LawTable {
+    /// The damping constants `α(e)` of body pairs and of walls
+    /// (`damping.rs`), if the scene declares a restitution.
+    alpha: Option<[f64; 2]>,
     /// Contact kind of each body, by storage index.
     kind_of: Vec<u32>,
     /// The kinds, in order of first appearance.
@@ -76,6 +83,7 @@ impl LawTable {
             vec![]
         };
         LawTable {
+            alpha: None,
             kind_of,
             kinds,
             wall,
@@ -83,17 +91,41 @@ impl LawTable {
         }
     }
 
-    /// The law of body `a` against a wall.
+    /// The table with the restitution damping of `e` (`None`: elastic).
+    pub(crate) fn with_restitution(mut self, e: Option<Restitution>) -> Self {
+        self.alpha = e.map(|e| [damping_constant(e.fibre), damping_constant(e.wall)]);
+        self
+    }
+
+    /// Whether the laws depend on the bodies' velocities (they have a
+    /// non-conservative part).
     #[inline]
-    pub(crate) fn fibre_wall(&self, a: usize) -> &HertzLaw {
+    pub(crate) fn reads_motion(&self) -> bool {
+        self.alpha.is_some()
+    }
+
+    /// The damping constant of body pairs (0 when elastic).
+    #[inline]
+    pub(crate) fn alpha_pair(&self) -> f64 {
+        self.alpha.map_or(0.0, |a| a[0])
+    }
+
+    /// The damping constant of walls (0 when elastic).
+    #[inline]
+    pub(crate) fn alpha_wall(&self) -> f64 {
+        self.alpha.map_or(0.0, |a| a[1])
+    }
+
+    /// The Hertz law of body `a` against a wall.
+    #[inline]
+    pub(crate) fn wall(&self, a: usize) -> &HertzLaw {
         &self.wall[self.kind_of[a] as usize]
     }
 
-    /// The law of body `a` (as the first fibre) against body `b`. (Inlined,
-    /// the table's lookup only: out of line the call showed in a bed's step,
-    /// `cargo bench --bench bed`.)
+    /// The Hertz law of body `a` (as the pair's first) against body `b`:
+    /// the table's lookup (its untabled fallback out of line).
     #[inline(always)]
-    pub(crate) fn fibre_fibre(&self, a: usize, b: usize) -> HertzLaw {
+    pub(crate) fn pair(&self, a: usize, b: usize) -> HertzLaw {
         let (ka, kb) = (self.kind_of[a] as usize, self.kind_of[b] as usize);
         match self.pair.get(ka * self.kinds.len() + kb) {
             Some(&law) => law,
@@ -165,7 +197,7 @@ mod tests {
                 WALLS.poisson,
             );
             let bits = |l: &HertzLaw| (l.e_star.to_bits(), l.r_star.to_bits());
-            assert_eq!(bits(t.fibre_wall(i)), bits(&wall), "wall, body {i}");
+            assert_eq!(bits(t.wall(i)), bits(&wall), "wall, body {i}");
             for (j, b) in bodies.iter().enumerate() {
                 let mb = &materials[b.material as usize];
                 let law = HertzLaw::fibre_fibre(
@@ -176,7 +208,7 @@ mod tests {
                     mb.young,
                     mb.poisson,
                 );
-                assert_eq!(bits(&t.fibre_fibre(i, j)), bits(&law), "pair {i} {j}");
+                assert_eq!(bits(&t.pair(i, j)), bits(&law), "pair {i} {j}");
             }
         }
     }

@@ -1,0 +1,236 @@
+//! The contact law: a contact point's geometry and the motion of its two
+//! bodies → the point's loads (Yade's chain: geometry → physical
+//! parameters → law). The one place a contact's loads are made: the
+//! candidate loop (`contact/blocks.rs`) calls [`CandidateLaw::load`] for
+//! every point of every touching candidate, whatever the thread or the
+//! MPI rank.
+//!
+//! A point's loads, in its candidate's frame (body A, and body B or a
+//! wall; docs/architecture.md):
+//! - **normal, elastic**: the Hertz force `w F(δ) n` at the point
+//!   (`hertz.rs`), its energy `w U(δ)`, and the pure couple `−U(δ) ∇w` of
+//!   an orientation-dependent weight ([`ContactPoint`]);
+//! - **normal, non-conservative**: the restitution damping `w η(δ) δ̇`
+//!   (`damping.rs`), where the scene declares a restitution;
+//! - **tangential**: none, the law is frictionless. Its slot is marked in
+//!   [`CandidateLaw::load`]: a tangential law reads the relative velocity
+//!   at the point (made there from both bodies' velocities and world
+//!   angular velocities) and the contact's history [`Record`], and adds
+//!   its force to the total and to the non-conservative part.
+//!
+//! The non-conservative part of each point's wrench is handed back apart
+//! ([`PointLoad::dissipative`]): the ledger sums it per body and accounts
+//! its exact work (`contact/ledger.rs`), whatever produced it.
+
+mod table;
+
+pub(crate) use table::LawTable;
+
+use super::{ContactPoint, HertzLaw};
+use crate::body::{Body, BodyState};
+use glam::DVec3;
+
+/// A load on a candidate's two bodies: a force on A (B gets minus it) and
+/// the torques about each body's own centre (A's added, B's subtracted;
+/// zero on a wall's side).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(crate) struct Wrench {
+    pub force: DVec3,
+    pub torque_a: DVec3,
+    pub torque_b: DVec3,
+}
+
+impl Wrench {
+    /// The wrench of the force `f` at `p` between A (centre `ca`) and B
+    /// (centre `cb`, none for a wall), with the pure `couple` on A (and
+    /// its opposite on B) if any: torques `(p − c) × f (+ couple)`.
+    #[inline(always)]
+    pub(crate) fn at(
+        f: DVec3,
+        p: DVec3,
+        couple: Option<DVec3>,
+        ca: DVec3,
+        cb: Option<DVec3>,
+    ) -> Self {
+        let torque = |c: DVec3| {
+            let t = (p - c).cross(f);
+            couple.map_or(t, |couple| t + couple)
+        };
+        Wrench {
+            force: f,
+            torque_a: torque(ca),
+            torque_b: cb.map_or(DVec3::ZERO, torque),
+        }
+    }
+}
+
+/// One contact point's loads.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PointLoad {
+    /// Every part: what the bodies feel.
+    pub total: Wrench,
+    /// Elastic energy stored at the point, `w U(δ)`, J.
+    pub elastic: f64,
+    /// The non-conservative part of `total` (the damping; a tangential
+    /// law's force alike), for the ledger; `None` for a law that has none.
+    pub dissipative: Option<Wrench>,
+}
+
+/// What the law keeps of one contact point between steps, carried by the
+/// contact's identity (its pair and its feature). The frictionless law
+/// keeps nothing: zero bytes. (Friction's tangential spring goes here.)
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(crate) struct Record;
+
+/// One side of a candidate: a body by index, with its centre (a wall
+/// side has none: it does not move).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Side {
+    pub index: usize,
+    pub centre: DVec3,
+}
+
+/// The bodies' motion at a force computation, for the parts of a law that
+/// depend on velocities: masses, velocities, angular velocities.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Motion<'a> {
+    bodies: &'a [Body],
+    states: &'a [BodyState],
+}
+
+impl<'a> Motion<'a> {
+    pub(crate) fn new(bodies: &'a [Body], states: &'a [BodyState]) -> Self {
+        Motion { bodies, states }
+    }
+
+    /// The velocity of side `s`'s material point at `p` (world):
+    /// `v + ω × (p − c)`, `ω = q ω_b` the world angular velocity.
+    #[inline(always)]
+    fn velocity_at(&self, s: &Side, p: DVec3) -> DVec3 {
+        let st = &self.states[s.index];
+        st.v + (st.rot.q * st.rot.omega_b).cross(p - s.centre)
+    }
+
+    /// The translational reduced mass of `a` and `b` (`m_a` on a wall).
+    #[inline(always)]
+    fn reduced_mass(&self, a: &Side, b: Option<&Side>) -> f64 {
+        let ma = self.bodies[a.index].mass;
+        match b {
+            Some(b) => {
+                let mb = self.bodies[b.index].mass;
+                ma * mb / (ma + mb)
+            }
+            None => ma,
+        }
+    }
+}
+
+/// The laws of one force computation: the table of the contact kinds'
+/// constants and, when the scene's law depends on velocities, the bodies'
+/// motion at this computation.
+#[derive(Clone, Copy)]
+pub(crate) struct Laws<'a> {
+    table: &'a LawTable,
+    motion: Option<Motion<'a>>,
+}
+
+impl<'a> Laws<'a> {
+    /// The laws of `table` at the motion `bodies`/`states` (read only if
+    /// the table's laws depend on velocities).
+    pub(crate) fn new(table: &'a LawTable, bodies: &'a [Body], states: &'a [BodyState]) -> Self {
+        Laws {
+            table,
+            motion: table.reads_motion().then(|| Motion::new(bodies, states)),
+        }
+    }
+
+    /// The law of body `a` against a wall.
+    #[inline(always)]
+    pub(crate) fn wall(&self, a: Side) -> CandidateLaw<'a> {
+        let hertz = *self.table.wall(a.index);
+        let nc = self.motion.map(|motion| NonConservative {
+            alpha: self.table.alpha_wall(),
+            root_mk: (motion.reduced_mass(&a, None) * hertz.stiffness()).sqrt(),
+            motion,
+        });
+        CandidateLaw {
+            hertz,
+            a,
+            b: None,
+            nc,
+        }
+    }
+
+    /// The law of body `a` (the pair's first) against body `b`.
+    #[inline(always)]
+    pub(crate) fn pair(&self, a: Side, b: Side) -> CandidateLaw<'a> {
+        let hertz = self.table.pair(a.index, b.index);
+        let nc = self.motion.map(|motion| NonConservative {
+            alpha: self.table.alpha_pair(),
+            root_mk: (motion.reduced_mass(&a, Some(&b)) * hertz.stiffness()).sqrt(),
+            motion,
+        });
+        CandidateLaw {
+            hertz,
+            a,
+            b: Some(b),
+            nc,
+        }
+    }
+}
+
+/// The non-conservative parts of a candidate's law, with the motion they
+/// read: the restitution damping `η(δ) = α √(m* k) δ^{1/4}`
+/// (`damping.rs`). (A tangential law's constants go here too.)
+#[derive(Clone, Copy)]
+struct NonConservative<'a> {
+    motion: Motion<'a>,
+    alpha: f64,
+    /// `√(m* k)`, `k` the Hertz stiffness.
+    root_mk: f64,
+}
+
+/// The law of one candidate (its kinds' constants, its two sides).
+#[derive(Clone, Copy)]
+pub(crate) struct CandidateLaw<'a> {
+    hertz: HertzLaw,
+    a: Side,
+    b: Option<Side>,
+    nc: Option<NonConservative<'a>>,
+}
+
+impl CandidateLaw<'_> {
+    /// The loads of contact point `c` of this candidate, with the
+    /// contact's history `record` (read and written by the parts that keep
+    /// one; none yet).
+    #[inline(always)]
+    pub(crate) fn load(&self, c: &ContactPoint, _record: &mut Record) -> PointLoad {
+        let (ca, cb) = (self.a.centre, self.b.map(|b| b.centre));
+        let u = self.hertz.energy(c.overlap);
+        let mut f_n = c.weight * self.hertz.force(c.overlap);
+        let mut dissipative = None;
+        if let Some(nc) = &self.nc {
+            // The relative velocity of A's and B's material points at the
+            // contact (a wall stands still).
+            let mut rel = nc.motion.velocity_at(&self.a, c.point);
+            if let Some(b) = &self.b {
+                rel -= nc.motion.velocity_at(b, c.point);
+            }
+            // Normal: the damping, with δ̇ = −n·(v_A(p) − v_B(p))
+            // (n = −∂δ/∂x_A).
+            let rate = -c.normal.dot(rel);
+            let f_d = c.weight * nc.alpha * nc.root_mk * c.overlap.sqrt().sqrt() * rate;
+            f_n += f_d;
+            // Tangential: none (frictionless). A tangential law goes here:
+            // from the part of `rel` across `c.normal`, the normal force
+            // `f_n` and the contact's `_record`, a tangential force added
+            // to the total and to the non-conservative wrench.
+            dissipative = Some(Wrench::at(f_d * c.normal, c.point, None, ca, cb));
+        }
+        PointLoad {
+            total: Wrench::at(f_n * c.normal, c.point, Some(-u * c.weight_grad), ca, cb),
+            elastic: c.weight * u,
+            dissipative,
+        }
+    }
+}
