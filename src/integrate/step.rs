@@ -7,6 +7,12 @@
 //! pass: translation half-kick, rotator `finish`, the energy ledger and the
 //! per-body guard; 4. the scene guards.
 //!
+//! The opening and closing stages are written once, body by body, and
+//! walked on one thread, on the pool ([`crate::contact::stage::parallel`])
+//! or over an MPI rank's own bodies (`walk.rs`): a body's arithmetic, the
+//! rotator refusal reported and the ledger's sum do not depend on the
+//! walker. docs/architecture.md.
+//!
 //! Integrators never compute forces; the force stage never moves bodies.
 
 pub use super::world::{StageTimes, World};
@@ -14,11 +20,10 @@ pub use super::world::{StageTimes, World};
 use super::rotate::{AuxState, Rotator, RotatorFault};
 use super::scheme::Stage;
 use super::verlet;
-use crate::body::BodyState;
+use super::walk::{Input, Inputs, Pool, Serial, Walk};
+use crate::body::{Body, BodyState};
 use crate::energy::{error_pct, Ledger};
-use crate::scenario::Prescribed;
 use crate::stop::{Diagnosis, StopKind};
-use crate::torque::PrescribedTorque;
 use glam::DVec3;
 use std::time::{Duration, Instant};
 
@@ -26,27 +31,21 @@ use std::time::{Duration, Instant};
 /// rotator keeps `‖q‖ = 1` by construction or by its own renormalisation).
 pub const QUAT_NORM_TOLERANCE: f64 = 1e-9;
 
-/// The `len` doubles of body `i` in a flat per-body array.
-#[inline]
-fn slot(aux: &mut [f64], i: usize, len: usize) -> &mut [f64] {
-    &mut aux[i * len..(i + 1) * len]
-}
-
-/// The prescribed torque of body `i`, if it has one: `next` walks the sparse,
-/// ordered list alongside the bodies.
-#[inline]
-fn prescribed_at<'a>(
-    next: &mut std::iter::Peekable<std::slice::Iter<'a, Prescribed>>,
-    i: usize,
-) -> Option<&'a PrescribedTorque> {
-    next.next_if(|p| p.body == i).map(|p| &p.torque)
-}
-
 impl<'s> World<'s> {
-    /// Advance one step with rotator `R`. The diagnosis is boxed: a stop is
-    /// rare, and a one-word `Result` keeps a 100-byte copy out of every step
-    /// (a large share of a single-body step: `benches/rotators.rs`).
+    /// Advance one step with rotator `R`: its stages walked on the thread
+    /// pool for a scene that runs there, else on this thread.
     pub fn step<R: Rotator>(&mut self) -> Result<(), Box<Diagnosis>> {
+        if crate::contact::stage::parallel(self.states.len()) {
+            self.step_by::<R, Pool>(&Pool)
+        } else {
+            self.step_by::<R, Serial>(&Serial)
+        }
+    }
+
+    /// [`World::step`] with the bodies walked by `walk`. The diagnosis is
+    /// boxed: a stop is rare, and a one-word `Result` keeps a 100-byte
+    /// copy out of every step (`benches/rotators.rs`).
+    fn step_by<R: Rotator, W: Walk>(&mut self, walk: &W) -> Result<(), Box<Diagnosis>> {
         const { assert!(super::scheme::is_valid(R::STAGES)) };
         if R::Aux::LEN > 0 && self.aux.len() != R::Aux::LEN * self.states.len() {
             self.start_aux::<R>();
@@ -63,17 +62,19 @@ impl<'s> World<'s> {
         };
         let sound = if const { super::scheme::is_verlet(R::STAGES) } {
             // The stages of VERLET, unrolled (no loop over the sequence).
-            self.open::<R>(0.0, 1.0)?;
+            self.open_stage::<R, W>(walk, 0.0, 1.0)?;
             forces(self);
-            self.close::<R>(1.0, 1.0, true)
+            self.close_stage::<R, W>(walk, 1.0, 1.0, true)
         } else {
             let last = R::STAGES.len() - 1;
             let mut sound = true;
             for (k, stage) in R::STAGES.iter().enumerate() {
                 match *stage {
-                    Stage::Open { start, h } => self.open::<R>(start, h)?,
+                    Stage::Open { start, h } => self.open_stage::<R, W>(walk, start, h)?,
                     Stage::Forces => forces(self),
-                    Stage::Close { end, h } => sound = self.close::<R>(end, h, k == last),
+                    Stage::Close { end, h } => {
+                        sound = self.close_stage::<R, W>(walk, end, h, k == last)
+                    }
                 }
             }
             sound
@@ -108,120 +109,151 @@ impl<'s> World<'s> {
     }
 
     /// The rotator's auxiliary state at the start of a run.
-    fn start_aux<R: Rotator>(&mut self) {
+    pub(crate) fn start_aux<R: Rotator>(&mut self) {
         let len = R::Aux::LEN;
         self.aux = vec![0.0; len * self.states.len()];
         for (i, (s, b)) in self.states.iter().zip(&self.scene.bodies).enumerate() {
-            R::start(&s.rot, &b.inertia).write(slot(&mut self.aux, i, len));
+            R::start(&s.rot, &b.inertia).write(&mut self.aux[i * len..(i + 1) * len]);
         }
     }
 
-    /// An opening stage: half-kick and drift, rotator `advance`, over
-    /// `[t_n + start·δt, +h·δt]`.
+    /// An opening stage over `[t_n + start·δt, +h·δt]` of the bodies
+    /// `walk` walks, each: translation half-kick and drift, rotator
+    /// `advance`. The first refusal in body order, as its diagnosis.
     #[inline]
-    fn open<R: Rotator>(&mut self, start: f64, h: f64) -> Result<(), Box<Diagnosis>> {
-        if !R::MAY_FAULT && crate::contact::stage::parallel(self.states.len()) {
-            self.open_par::<R>(start, h);
-            return Ok(());
-        }
-        let scene = self.scene;
-        let dt = h * scene.sim.dt();
-        let t = (self.step as f64 + start) * scene.sim.dt();
-        let g = scene.gravity.unwrap_or(DVec3::ZERO);
-        let len = R::Aux::LEN;
-        let has_torques = !scene.torques.is_empty();
-        let mut prescribed = scene.torques.iter().peekable();
-        let loads = self.force.iter().zip(&self.torque);
-        for (i, ((s, body), (&f, &contact))) in self
-            .states
-            .iter_mut()
-            .zip(&scene.bodies)
-            .zip(loads)
-            .enumerate()
-        {
-            verlet::kick_drift(&mut s.x, &mut s.v, f * body.inv_mass + g, dt);
-            let p = if has_torques {
-                prescribed_at(&mut prescribed, i)
-            } else {
-                None
-            };
-            let torque = torque_source(p, contact);
-            let fault = |fault| Box::new(fault_diagnosis(fault, scene.ids.get(i), self.step, t));
-            if const { R::Aux::LEN == 0 } {
-                let mut a = R::Aux::default();
-                R::advance(&mut s.rot, &mut a, &body.inertia, torque, t, dt).map_err(fault)?;
-            } else {
-                let aux = slot(&mut self.aux, i, len);
-                let mut a = R::Aux::read(aux);
-                R::advance(&mut s.rot, &mut a, &body.inertia, torque, t, dt).map_err(fault)?;
-                a.write(aux);
-            }
-        }
-        Ok(())
+    fn open_stage<R: Rotator, W: Walk>(
+        &mut self,
+        walk: &W,
+        start: f64,
+        h: f64,
+    ) -> Result<(), Box<Diagnosis>> {
+        self.open::<R, W>(walk, start, h).map_err(|(i, fault)| {
+            let t = (self.step as f64 + start) * self.scene.sim.dt();
+            Box::new(fault_diagnosis(fault, self.scene.ids.get(i), self.step, t))
+        })
     }
 
-    /// A closing stage at `t_n + end·δt`: half-kick, rotator `finish`. The
+    /// A closing stage of the bodies `walk` walks ([`World::close`]); the
     /// step's last one also measures the ledger of the finished state and
-    /// the per-body guard, in the same pass, and says whether every body
-    /// passed it.
+    /// the per-body guard, and says whether every body passed it.
     #[inline]
-    fn close<R: Rotator>(&mut self, end: f64, h: f64, last: bool) -> bool {
-        if crate::contact::stage::parallel(self.states.len()) {
-            return self.close_par::<R>(end, h, last);
-        }
-        let scene = self.scene;
-        let dt = h * scene.sim.dt();
-        let t_end = (self.step as f64 + end) * scene.sim.dt();
-        let g = scene.gravity.unwrap_or(DVec3::ZERO);
-        let len = R::Aux::LEN;
+    fn close_stage<R: Rotator, W: Walk>(&mut self, walk: &W, end: f64, h: f64, last: bool) -> bool {
+        let g = self.scene.gravity.unwrap_or(DVec3::ZERO);
         let mut ledger = Ledger {
             elastic: self.elastic(),
             dissipated: self.dissipated(),
             ..Ledger::default()
         };
         let mut sound = true;
-        let has_torques = !scene.torques.is_empty();
-        let mut prescribed = scene.torques.iter().peekable();
-        let loads = self.force.iter().zip(&self.torque);
-        for (i, ((s, body), (&f, &contact))) in self
-            .states
-            .iter_mut()
-            .zip(&scene.bodies)
-            .zip(loads)
-            .enumerate()
-        {
-            verlet::kick(&mut s.v, f * body.inv_mass + g, dt);
-            let p = if has_torques {
-                prescribed_at(&mut prescribed, i)
-            } else {
-                None
-            };
-            let torque = torque_source(p, contact);
-            if const { R::Aux::LEN == 0 } {
-                let mut a = R::Aux::default();
-                R::finish(&mut s.rot, &mut a, &body.inertia, torque, t_end, dt);
-            } else {
-                let aux = slot(&mut self.aux, i, len);
-                let mut a = R::Aux::read(aux);
-                R::finish(&mut s.rot, &mut a, &body.inertia, torque, t_end, dt);
-                a.write(aux);
-            }
+        self.close::<R, W>(walk, end, h, |_, body, s| {
             if last {
                 ledger.add_body(body, s, g);
                 sound &= body_is_sound(s);
             }
-        }
+        });
         if last {
             self.ledger = ledger;
         }
         sound
     }
 
+    /// The opening stage of the bodies `walk` walks, over `[t_n +
+    /// start·δt, +h·δt]`: each body's half-kick and drift, then its
+    /// rotator's `advance` under the body's torque. Every walked body is
+    /// advanced; the first refusal in body order.
+    #[inline]
+    pub(crate) fn open<R: Rotator, W: Walk>(
+        &mut self,
+        walk: &W,
+        start: f64,
+        h: f64,
+    ) -> Result<(), (usize, RotatorFault)> {
+        let scene = self.scene;
+        let dt = h * scene.sim.dt();
+        let t = (self.step as f64 + start) * scene.sim.dt();
+        let g = scene.gravity.unwrap_or(DVec3::ZERO);
+        let inputs = Inputs {
+            bodies: &scene.bodies,
+            force: &self.force,
+            torque: &self.torque,
+            prescribed: &scene.torques,
+        };
+        walk.walk(
+            &mut self.states,
+            &mut self.aux,
+            inputs,
+            |s, a: &mut R::Aux, x| {
+                let Input {
+                    body,
+                    force,
+                    torque: contact,
+                    prescribed,
+                } = x;
+                verlet::kick_drift(&mut s.x, &mut s.v, force * body.inv_mass + g, dt);
+                // The torque the rotator asks for at a time `t`: the
+                // prescribed torque there, if any, plus the latest contact
+                // torque (docs/physics.md §4). (A closure of this stage
+                // and walker: each walker's loop has its own `advance`.)
+                let tau = move |t: f64| match prescribed {
+                    Some(p) => p.at(t) + contact,
+                    None => DVec3::ZERO + contact,
+                };
+                R::advance(&mut s.rot, a, &body.inertia, tau, t, dt)
+            },
+            |_, _, _| {},
+        )
+    }
+
+    /// A closing stage at `t_n + end·δt` (of a sub-step of `h·δt`) of the
+    /// bodies `walk` walks: each body's half-kick and its rotator's
+    /// `finish`; then `then(i, body, state)` on each of them in body order.
+    #[inline]
+    pub(crate) fn close<R: Rotator, W: Walk>(
+        &mut self,
+        walk: &W,
+        end: f64,
+        h: f64,
+        then: impl FnMut(usize, &Body, &BodyState),
+    ) {
+        let scene = self.scene;
+        let dt = h * scene.sim.dt();
+        let t_end = (self.step as f64 + end) * scene.sim.dt();
+        let g = scene.gravity.unwrap_or(DVec3::ZERO);
+        let inputs = Inputs {
+            bodies: &scene.bodies,
+            force: &self.force,
+            torque: &self.torque,
+            prescribed: &scene.torques,
+        };
+        let finished = walk.walk(
+            &mut self.states,
+            &mut self.aux,
+            inputs,
+            |s, a: &mut R::Aux, x| {
+                let Input {
+                    body,
+                    force,
+                    torque: contact,
+                    prescribed,
+                } = x;
+                verlet::kick(&mut s.v, force * body.inv_mass + g, dt);
+                let tau = move |t: f64| match prescribed {
+                    Some(p) => p.at(t) + contact,
+                    None => DVec3::ZERO + contact,
+                };
+                R::finish(&mut s.rot, a, &body.inertia, tau, t_end, dt);
+                Ok::<(), std::convert::Infallible>(())
+            },
+            then,
+        );
+        let Ok(()) = finished;
+    }
+
     /// The scene-wide guards (overlap, energy) of the fast path; the
     /// per-body ones are [`body_is_sound`]. Together as strict as
     /// [`Self::diagnose_state`].
     #[inline]
-    fn scene_is_sound(&self) -> bool {
+    pub(crate) fn scene_is_sound(&self) -> bool {
         let guards = &self.scene.guards;
         let overlap_ok = self
             .contacts
@@ -237,7 +269,7 @@ impl<'s> World<'s> {
     /// specific first (a NaN state also has a NaN energy).
     #[cold]
     #[inline(never)]
-    fn diagnose_state(&self) -> Option<Diagnosis> {
+    pub(crate) fn diagnose_state(&self) -> Option<Diagnosis> {
         let guards = &self.scene.guards;
         let ids = &self.scene.ids;
         let diag = |kind: StopKind, body: Option<usize>, value: f64, limit: f64| Diagnosis {
@@ -314,31 +346,14 @@ impl<'s> World<'s> {
 /// non-finite (`g·x` is computed even for `g = 0`, and `0·∞` is NaN), which
 /// [`World::scene_is_sound`] rejects; the slow path then names the body.
 #[inline]
-pub(super) fn body_is_sound(s: &BodyState) -> bool {
+pub(crate) fn body_is_sound(s: &BodyState) -> bool {
     const NORM2_LO: f64 = (1.0 - QUAT_NORM_TOLERANCE) * (1.0 - QUAT_NORM_TOLERANCE);
     const NORM2_HI: f64 = (1.0 + QUAT_NORM_TOLERANCE) * (1.0 + QUAT_NORM_TOLERANCE);
     (NORM2_LO..=NORM2_HI).contains(&s.rot.q.length_squared())
 }
 
-/// The torque a rotator asks for at time `t`: the body's prescribed torque,
-/// if any, evaluated there, plus the latest computed contact torque
-/// (docs/physics.md §4).
-#[inline]
-pub(super) fn torque_source(
-    prescribed: Option<&PrescribedTorque>,
-    contact: DVec3,
-) -> impl Fn(f64) -> DVec3 + '_ {
-    // Inlined by force: with codegen-units = 4, where this closure lands
-    // follows the crate's layout, and a call per body-step is a measurable
-    // share of the nine-fibre step (`cargo bench --bench contacts`).
-    #[inline(always)]
-    move |t| match prescribed {
-        Some(p) => p.at(t) + contact,
-        None => DVec3::ZERO + contact,
-    }
-}
-
-fn fault_diagnosis(fault: RotatorFault, body: u64, step: u64, t: f64) -> Diagnosis {
+/// The diagnosis of a rotator's refusal of body `body` at `step`, time `t`.
+pub(crate) fn fault_diagnosis(fault: RotatorFault, body: u64, step: u64, t: f64) -> Diagnosis {
     match fault {
         RotatorFault::ScalarSingularity { half_angle } => Diagnosis {
             kind: StopKind::ScalarSingularity,
@@ -348,44 +363,5 @@ fn fault_diagnosis(fault: RotatorFault, body: u64, step: u64, t: f64) -> Diagnos
             value: half_angle,
             limit: std::f64::consts::FRAC_PI_2,
         },
-    }
-}
-
-/// The step's guards and diagnoses for an MPI rank's step (`src/ranks/`),
-/// as wrappers: the originals stay private to this module, so the
-/// one-process step inlines them as before (made crate-visible, LLVM
-/// stopped inlining the torque closure into the one-process step).
-#[cfg(feature = "mpi")]
-pub(crate) mod for_ranks {
-    use super::*;
-
-    impl World<'_> {
-        /// [`World::start_aux`].
-        pub(crate) fn ranks_start_aux<R: Rotator>(&mut self) {
-            self.start_aux::<R>()
-        }
-        /// [`World::scene_is_sound`].
-        pub(crate) fn ranks_scene_is_sound(&self) -> bool {
-            self.scene_is_sound()
-        }
-        /// [`World::diagnose_state`].
-        pub(crate) fn ranks_diagnose_state(&self) -> Option<Diagnosis> {
-            self.diagnose_state()
-        }
-    }
-
-    /// [`body_is_sound`].
-    pub(crate) fn ranks_body_is_sound(s: &BodyState) -> bool {
-        body_is_sound(s)
-    }
-
-    /// [`fault_diagnosis`].
-    pub(crate) fn ranks_fault_diagnosis(
-        f: RotatorFault,
-        body: u64,
-        step: u64,
-        t: f64,
-    ) -> Diagnosis {
-        fault_diagnosis(f, body, step, t)
     }
 }

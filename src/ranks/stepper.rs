@@ -33,15 +33,10 @@ use crate::contact::FibreGeom;
 use crate::energy::Ledger;
 use crate::integrate::rotate::{AuxState, Rotator, RotatorFault};
 use crate::integrate::scheme::Stage;
-use crate::integrate::step::for_ranks::{
-    ranks_body_is_sound as body_is_sound, ranks_fault_diagnosis as fault_diagnosis,
-};
-use crate::integrate::step::World;
-use crate::integrate::verlet;
+use crate::integrate::step::{body_is_sound, fault_diagnosis, World};
+use crate::integrate::walk::Owned;
 use crate::run::driver::Stepper;
-use crate::scenario::scene::prescribed_on;
 use crate::stop::Diagnosis;
-use crate::torque::PrescribedTorque;
 use glam::{DQuat, DVec3};
 use mpi::Count;
 use std::sync::atomic::Ordering;
@@ -334,59 +329,32 @@ impl<'c> RankStep<'c> {
         self.clocks.forces += t.elapsed();
     }
 
-    /// An opening stage on the owned bodies ([`World`]'s `open`, body by
-    /// body the same operations): the first body (by index) whose rotator
-    /// refuses the step, if any.
+    /// An opening stage of the owned bodies ([`World::open`]): the first
+    /// body (by index) whose rotator refuses the step, if any.
     fn open<R: Rotator>(
         &mut self,
         w: &mut World,
         start: f64,
         h: f64,
     ) -> Option<(usize, RotatorFault)> {
-        let scene = w.scene;
-        let dt = h * scene.sim.dt();
-        let t = (w.step as f64 + start) * scene.sim.dt();
-        let g = scene.gravity.unwrap_or(DVec3::ZERO);
-        let len = R::Aux::LEN;
-        for &i in &self.slabs.owned[self.comm.rank] {
-            let i = i as usize;
-            let (s, body) = (&mut w.states[i], &scene.bodies[i]);
-            verlet::kick_drift(&mut s.x, &mut s.v, w.force[i] * body.inv_mass + g, dt);
-            let torque = torque_source(prescribed_on(&scene.torques, i), w.torque[i]);
-            let aux = &mut w.aux[i * len..(i + 1) * len];
-            let mut a = R::Aux::read(aux);
-            if let Err(f) = R::advance(&mut s.rot, &mut a, &body.inertia, torque, t, dt) {
-                return Some((i, f));
-            }
-            a.write(aux);
-        }
-        None
+        let owned = Owned(&self.slabs.owned[self.comm.rank]);
+        w.open::<R, _>(&owned, start, h).err()
     }
 
-    /// A closing stage on the owned bodies; the last one also writes their
-    /// ledger terms into the message and says whether each passed the
-    /// per-body guard.
+    /// A closing stage of the owned bodies ([`World::close`]); the last one
+    /// also writes their ledger terms into the message and says whether
+    /// each passed the per-body guard.
     fn close<R: Rotator>(&mut self, w: &mut World, end: f64, h: f64, last: bool) -> bool {
-        let scene = w.scene;
-        let dt = h * scene.sim.dt();
-        let t_end = (w.step as f64 + end) * scene.sim.dt();
-        let g = scene.gravity.unwrap_or(DVec3::ZERO);
-        let len = R::Aux::LEN;
+        let g = w.scene.gravity.unwrap_or(DVec3::ZERO);
+        let owned = Owned(&self.slabs.owned[self.comm.rank]);
+        let msg = &mut self.msg;
         let mut sound = true;
-        for &i in &self.slabs.owned[self.comm.rank] {
-            let i = i as usize;
-            let (s, body) = (&mut w.states[i], &scene.bodies[i]);
-            verlet::kick(&mut s.v, w.force[i] * body.inv_mass + g, dt);
-            let torque = torque_source(prescribed_on(&scene.torques, i), w.torque[i]);
-            let aux = &mut w.aux[i * len..(i + 1) * len];
-            let mut a = R::Aux::read(aux);
-            R::finish(&mut s.rot, &mut a, &body.inertia, torque, t_end, dt);
-            a.write(aux);
+        w.close::<R, _>(&owned, end, h, |_, body, s| {
             if last {
-                self.msg.extend(tally::body_terms(body, s, g));
+                msg.extend(tally::body_terms(body, s, g));
                 sound &= body_is_sound(s);
             }
-        }
+        });
         sound
     }
 
@@ -528,18 +496,6 @@ impl<'c> RankStep<'c> {
     }
 }
 
-/// The torque a rotator asks for at `t`, as the one-process step forms it
-/// (`integrate/step.rs`): the prescribed torque, if any, plus the contact
-/// torque. (Its own copy: sharing the step's closure moved it out of the
-/// one-process loop's inlining.)
-#[inline]
-fn torque_source(
-    prescribed: Option<&PrescribedTorque>,
-    contact: DVec3,
-) -> impl Fn(f64) -> DVec3 + '_ {
-    move |t| prescribed.map_or(DVec3::ZERO, |p| p.at(t)) + contact
-}
-
 impl<'s> Stepper<'s> for RankStep<'_> {
     fn start(&mut self, w: &mut World<'s>) {
         let b = &w.scene.bodies;
@@ -562,7 +518,7 @@ impl<'s> Stepper<'s> for RankStep<'_> {
     fn step<R: Rotator>(&mut self, w: &mut World<'s>) -> Result<(), Box<Diagnosis>> {
         if w.aux.len() != R::Aux::LEN * w.states.len() {
             if R::Aux::LEN > 0 {
-                w.ranks_start_aux::<R>();
+                w.start_aux::<R>();
             } else {
                 w.aux.clear();
             }
@@ -592,14 +548,13 @@ impl<'s> Stepper<'s> for RankStep<'_> {
         }
         w.step += 1;
         let sound = self.reduce(w, sound);
-        if sound && w.ranks_scene_is_sound() {
+        if sound && w.scene_is_sound() {
             return Ok(());
         }
         // A guard fired somewhere: every rank takes every state and names
         // the same diagnosis, as one process would.
         self.gather_states(w, true);
-        w.ranks_diagnose_state()
-            .map_or(Ok(()), |d| Err(Box::new(d)))
+        w.diagnose_state().map_or(Ok(()), |d| Err(Box::new(d)))
     }
 
     fn sync(&mut self, w: &mut World<'s>) {
