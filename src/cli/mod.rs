@@ -154,7 +154,17 @@ fn print(text: &dyn std::fmt::Display) -> Result<()> {
 fn run(mut plan: plan::RunPlan) -> Result<()> {
     #[cfg(feature = "mpi")]
     if crate::ranks::launched() {
-        return crate::ranks::run(plan);
+        let (out_dir, quiet) = (plan.opts.out_dir.clone(), plan.quiet);
+        let warnings = plan.warnings.iter().chain(&plan.advice.warnings);
+        let job = crate::ranks::Job {
+            warnings: warnings.cloned().collect(),
+            notes: std::mem::take(&mut plan.notes),
+            scene: plan.scene,
+            opts: &plan.opts,
+            resume: plan.resume.as_ref(),
+            quiet,
+        };
+        return crate::ranks::run(job, |scene, o| print_outcome(scene, o, &out_dir, quiet));
     }
     for w in plan.warnings.iter().chain(&plan.advice.warnings) {
         eprintln!("warning: {w}");

@@ -42,6 +42,16 @@ pub struct World<'s> {
     pub timers: Option<StageTimes>,
 }
 
+/// What a damped world needs besides its states to continue bit for bit
+/// ([`World::restore_damping`]; a checkpoint stores it).
+#[derive(Debug, Clone)]
+pub struct DampedState {
+    /// The last force stage's total contact force and torque per body.
+    pub loads: Vec<[DVec3; 2]>,
+    /// The ledger of the non-conservative loads (`done`, `dissipated`), J.
+    pub ledger: [f64; 2],
+}
+
 /// Wall time spent in each stage of the step, summed over steps.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct StageTimes {
@@ -114,7 +124,7 @@ impl<'s> World<'s> {
     /// are replaced by the stored ones, and the damping ledger is put back
     /// (the recomputation's positions-only statistics, elastic energy and
     /// overlaps, are the step's).
-    pub fn restore_damping(&mut self, d: crate::output::checkpoint::DampedState) {
+    pub fn restore_damping(&mut self, d: DampedState) {
         if let Some(c) = &mut self.contacts {
             assert!(c.set_damping_state(d.ledger), "the scene is damped");
         }

@@ -146,15 +146,7 @@ impl DampingPart {
     }
 }
 
-/// What a damped world needs besides its states to continue bit for bit
-/// ([`restore`]; `World::restore_damping`).
-#[derive(Debug, Clone)]
-pub struct DampedState {
-    /// The last force stage's total contact force and torque per body.
-    pub loads: Vec<[DVec3; 2]>,
-    /// The damping ledger (`done`, `dissipated`), J.
-    pub ledger: [f64; 2],
-}
+pub use crate::integrate::world::DampedState;
 
 /// A float as its 16-digit hex bit pattern.
 pub fn bits(x: f64) -> String {

@@ -22,10 +22,14 @@ mod slabs;
 mod stepper;
 mod tally;
 
-use crate::cli::plan::RunPlan;
 use crate::error::{Error, Result};
+use crate::output::checkpoint::Checkpoint;
+use crate::output::Summary;
+use crate::run::RunOptions;
+use crate::scenario::Scene;
 use comm::Comm;
 use mpi::traits::*;
+use std::path::PathBuf;
 use stepper::{Clocks, RankStep};
 
 /// Whether this process was started by an MPI launcher (OpenMPI's or
@@ -36,9 +40,25 @@ pub fn launched() -> bool {
         .any(|k| std::env::var_os(k).is_some())
 }
 
+/// A run for the ranks, as its caller prepared it (every rank prepares
+/// the same).
+pub struct Job<'a> {
+    /// The scene (its step-0 states move into the run).
+    pub scene: Scene,
+    /// Where to write and how often to checkpoint.
+    pub opts: &'a RunOptions,
+    /// The checkpoint to continue, and the folder it was found in.
+    pub resume: Option<&'a (Checkpoint, PathBuf)>,
+    /// Printed by rank 0 before the run.
+    pub warnings: Vec<String>,
+    /// Printed by rank 0 after the warnings.
+    pub notes: Vec<String>,
+    /// No per-rank table on stderr.
+    pub quiet: bool,
+}
+
 /// What the decomposition does not cover yet, refused with its fix.
-fn refuse(plan: &RunPlan) -> Result<()> {
-    let scene = &plan.scene;
+fn refuse(scene: &Scene) -> Result<()> {
     if scene.damping.is_some() {
         return Err(Error::bad(
             &scene.source,
@@ -49,24 +69,25 @@ fn refuse(plan: &RunPlan) -> Result<()> {
     Ok(())
 }
 
-/// `fibresim run` on the MPI ranks: every rank runs the same command
-/// line; rank 0 writes and prints. A stop (a guard, Ctrl-C) ends every
-/// rank with the same diagnosis and exit code; an error of rank 0 alone
-/// (an output it cannot write) aborts the job with its exit code.
-pub fn run(mut plan: RunPlan) -> Result<()> {
+/// `job` on the MPI ranks: every rank runs it; rank 0 writes, and hands
+/// its outcome to `report` (what the caller prints of it). A stop (a
+/// guard, Ctrl-C) ends every rank with the same diagnosis and exit code;
+/// an error of rank 0 alone (an output it cannot write) aborts the job
+/// with its exit code.
+pub fn run(mut job: Job, report: impl FnOnce(&Scene, &Result<Summary>)) -> Result<()> {
     let Some((universe, _)) = mpi::initialize_with_threading(mpi::Threading::Funneled) else {
         return Err(Error::bad("mpirun", "MPI", "MPI could not be initialised"));
     };
     let world = universe.world();
     let root = world.rank() == 0;
     // The world takes the step-0 states; the scene keeps no copy.
-    let initial = std::mem::take(&mut plan.scene.initial);
-    let result = run_ranked(&plan, initial, &world, root);
+    let initial = std::mem::take(&mut job.scene.initial);
+    let result = run_ranked(&job, initial, &world, root, report);
     match &result {
         Err(e)
             if root
                 && !matches!(e, Error::Unstable(_) | Error::Interrupted(_))
-                && refuse(&plan).is_ok() =>
+                && refuse(&job.scene).is_ok() =>
         {
             // Only rank 0 writes: the others wait in a collective.
             eprintln!("error: {e}");
@@ -83,31 +104,32 @@ pub fn run(mut plan: RunPlan) -> Result<()> {
 }
 
 fn run_ranked(
-    plan: &RunPlan,
+    job: &Job,
     initial: Vec<crate::body::BodyState>,
     world: &mpi::topology::SimpleCommunicator,
     root: bool,
+    report_outcome: impl FnOnce(&Scene, &Result<Summary>),
 ) -> Result<()> {
-    refuse(plan)?;
-    let out_dir = &plan.opts.out_dir;
+    let scene = &job.scene;
+    refuse(scene)?;
+    let out_dir = &job.opts.out_dir;
     if root {
-        for w in plan.warnings.iter().chain(&plan.advice.warnings) {
+        for w in &job.warnings {
             eprintln!("warning: {w}");
         }
-        for n in &plan.notes {
+        for n in &job.notes {
             eprintln!("note: {n}");
         }
     }
     let _ = ctrlc::set_handler(|| {
         crate::run::INTERRUPTED.store(true, std::sync::atomic::Ordering::Relaxed)
     });
-    let scene = &plan.scene;
     let progress = root
         .then(|| {
             crate::output::Progress::of_run(
                 scene.sim.steps(),
-                plan.opts.progress,
-                plan.opts.progress_lines,
+                job.opts.progress,
+                job.opts.progress_lines,
             )
         })
         .flatten();
@@ -115,8 +137,8 @@ fn run_ranked(
     let outcome = crate::run::run_by(
         scene,
         initial,
-        &plan.opts,
-        plan.resume.as_ref().map(|r| &r.0),
+        job.opts,
+        job.resume.map(|r| &r.0),
         progress,
         &mut stepper,
         root,
@@ -128,7 +150,7 @@ fn run_ranked(
     }
     let ranks = report(&mut stepper, scene.bodies.len());
     if let (Some(ranks), Ok(Some(_))) = (&ranks, &outcome) {
-        if !plan.quiet {
+        if !job.quiet {
             eprint!("{}", ranks.table());
         }
         if stepper.comm.size > 1 {
@@ -137,7 +159,7 @@ fn run_ranked(
     }
     if root {
         let o = outcome.map(|s| s.expect("rank 0 writes the summary"));
-        crate::cli::print_outcome(scene, &o, out_dir, plan.quiet);
+        report_outcome(scene, &o);
         o.map(|_| ())
     } else {
         outcome.map(|_| ())
