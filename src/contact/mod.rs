@@ -14,7 +14,9 @@
 //! constants tabled once per pair of contact kinds; [`broad`] keeps the
 //! candidate pairs; `blocks.rs` is the one loop over them; `ledger.rs`
 //! accounts the work of the non-conservative loads; [`stage`] runs a
-//! computation. Models, limits and their history: docs/contacts.md; the
+//! computation. [`tangential`] is the friction law (a spring per contact
+//! and the Coulomb cap) that the law's tangential slot will call once
+//! contacts keep a history; no scene runs it yet. Models, limits and their history: docs/contacts.md; the
 //! pipeline: docs/architecture.md.
 
 pub(crate) mod blocks;
@@ -36,6 +38,7 @@ pub mod sphere_fibre;
 pub mod sphere_sphere;
 pub mod sphere_wall;
 pub mod stage;
+pub mod tangential;
 pub mod walls;
 
 pub use broad::{aabb, candidate_pairs};
