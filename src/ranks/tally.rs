@@ -108,8 +108,8 @@ impl Peak {
 
 /// The contact statistics of the hits in `msg` (the concatenated
 /// messages of every rank) and the ranks' peaks, summed in the
-/// one-process order: the serial stage's walls loop, then its pairs loop
-/// (`apply` in `contact/stage.rs`; `Slots::compute` reduces alike).
+/// one-process order: the candidate loop's walls, then its pairs
+/// (`contact/blocks.rs`).
 pub(crate) fn contact_stats(msg: &[f64], peaks: &[Peak]) -> ContactStats {
     let mut list = Vec::new();
     let mut k = 0;

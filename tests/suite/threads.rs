@@ -73,7 +73,7 @@ fn staggered_rotators_give_the_same_bytes_with_any_thread_count() {
 
 /// A settled random bed (`scenarios/bed_1k.toml`, 100 steps): its
 /// end-involved contacts include blended ties, whose points carry the
-/// weight's couple (slots.rs keeps those apart), which the lattice above
+/// weight's couple (kept apart by the candidate loop), which the lattice above
 /// has none of.
 #[test]
 fn bed_output_bytes_do_not_depend_on_the_thread_count() {
