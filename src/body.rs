@@ -12,7 +12,7 @@ pub enum Shape {
         /// L, m.
         length: f64,
     },
-    /// Solid sphere (contact-free scenes only).
+    /// Solid sphere.
     Sphere {
         /// m.
         diameter: f64,

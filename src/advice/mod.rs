@@ -50,6 +50,7 @@ pub use report::CheckReport;
 use crate::body::{Body, Material, Shape};
 use crate::contact::fibre_fibre::END_FACE_DOME_SIN;
 use crate::contact::fibre_wall::FACE_BLEND_SIN;
+use crate::contact::law::{body_law, body_wall_law};
 use crate::contact::HertzLaw;
 use crate::scenario::Scene;
 
@@ -106,7 +107,8 @@ pub struct Advice {
     pub warnings: Vec<String>,
 }
 
-/// Rayleigh time of a fibre of material `m`: `π r √(ρ/G) / (0.1631 ν + 0.8766)`.
+/// Rayleigh time of a fibre or a sphere of material `m`, `r` its radius:
+/// `π r √(ρ/G) / (0.1631 ν + 0.8766)`.
 pub fn rayleigh_time(b: &Body, m: &Material) -> f64 {
     let r = 0.5 * b.shape.diameter();
     let g = m.young / (2.0 * (1.0 + m.poisson));
@@ -307,7 +309,7 @@ pub fn advise_with(scene: &Scene, impact_speed: Option<f64>) -> Advice {
         for &(i, _, v) in &kinds {
             let (b, m) = (&scene.bodies[i], mat(i));
             let d = b.shape.diameter();
-            let law = HertzLaw::fibre_wall(d, m.young, m.poisson, w.young, w.poisson);
+            let law = body_wall_law(b, m, w);
             let rho = 4.0 * 0.5 * d / FACE_BLEND_SIN;
             pairs.push(PairAdvice {
                 pair: format!("{}–wall", name(i)),
@@ -329,14 +331,7 @@ pub fn advise_with(scene: &Scene, impact_speed: Option<f64>) -> Advice {
                 }
                 let (a, b) = (&scene.bodies[i], &scene.bodies[j]);
                 let (ma, mb) = (mat(i), mat(j));
-                let law = HertzLaw::fibre_fibre(
-                    a.shape.diameter(),
-                    ma.young,
-                    ma.poisson,
-                    b.shape.diameter(),
-                    mb.young,
-                    mb.poisson,
-                );
+                let law = body_law(a, ma, b, mb);
                 let m = 1.0 / (1.0 / m_eff(a) + 1.0 / m_eff(b));
                 // A given impact speed is the approach speed itself.
                 let v = match impact_speed {
@@ -354,10 +349,15 @@ pub fn advise_with(scene: &Scene, impact_speed: Option<f64>) -> Advice {
                     v_max: v,
                     contact_time: law.contact_time(m, v),
                     rayleigh_time: rayleigh_time(a, ma).min(rayleigh_time(b, mb)),
-                    // Either fibre's face may rest on the other.
-                    tilt_period: [a, b]
-                        .map(|f| {
-                            let rho = 0.5 * f.shape.diameter() / END_FACE_DOME_SIN;
+                    // Either fibre's face may rest on the other: on a
+                    // fibre's domed face, or on a sphere (its radius is
+                    // the face's lever).
+                    tilt_period: [(a, b), (b, a)]
+                        .map(|(f, other)| {
+                            let rho = match other.shape {
+                                Shape::Sphere { diameter } => 0.5 * diameter,
+                                _ => 0.5 * f.shape.diameter() / END_FACE_DOME_SIN,
+                            };
                             tilt_period(f, &law, m, v, rho)
                         })
                         .into_iter()

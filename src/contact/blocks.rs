@@ -27,6 +27,7 @@ use super::broad::NeighbourList;
 use super::fibre_fibre::PairMemory;
 use super::law::{CandidateLaw, Laws, PointLoad, Record, Side, Wrench};
 use super::stage::ContactStats;
+use super::shape::{collider, ColliderKind};
 use super::{contacts, Collider, ContactPoint, FibreGeom, KernelCounters, Wall};
 use glam::DVec3;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -44,7 +45,7 @@ struct Point {
     overlap: f64,
 }
 
-/// How the loop obtains a fibre pair's contact points: [`Computed`] by
+/// How the loop obtains a body pair's contact points: [`Computed`] by
 /// the kernels; a measuring build may replay recorded answers instead
 /// (`contact/replay.rs`).
 pub(crate) trait PairKernel: Sync {
@@ -55,13 +56,13 @@ pub(crate) trait PairKernel: Sync {
     /// A computation of a (non-empty) pair list starts.
     fn computation(&self) {}
 
-    /// The contacts of fibres `a` and `b` appended to `out`, with the
+    /// The contacts of bodies `a` and `b` appended to `out`, with the
     /// pair's `memory` and the sum of both bodies' motion bounds since
-    /// its last computation (`fibre_fibre/coherence.rs`).
+    /// its last computation (fibre pairs, `fibre_fibre/coherence.rs`).
     fn contacts(
         &self,
-        a: &FibreGeom,
-        b: &FibreGeom,
+        a: Collider,
+        b: Collider,
         out: &mut Vec<ContactPoint>,
         counters: &mut KernelCounters,
         memory: &mut PairMemory,
@@ -76,20 +77,14 @@ impl PairKernel for Computed {
     #[inline(always)]
     fn contacts(
         &self,
-        a: &FibreGeom,
-        b: &FibreGeom,
+        a: Collider,
+        b: Collider,
         out: &mut Vec<ContactPoint>,
         counters: &mut KernelCounters,
         memory: &mut PairMemory,
         motion: f64,
     ) {
-        super::contacts_remembering(
-            Collider::Fibre(a),
-            Collider::Fibre(b),
-            out,
-            counters,
-            Some((memory, motion)),
-        );
+        super::contacts_remembering(a, b, out, counters, Some((memory, motion)));
     }
 }
 
@@ -355,14 +350,22 @@ trait Candidates<'l>: Sync {
     fn bodies(&self, c: &Self::Candidate) -> (usize, Option<usize>);
 }
 
-/// What both lists read: the fibres' geometry and the laws.
+/// What both lists read: the bodies' geometry records and collider kinds,
+/// and the laws.
 #[derive(Clone, Copy)]
 struct Scene<'a, 'l> {
     geoms: &'a [FibreGeom],
+    kinds: &'a [ColliderKind],
     laws: &'a Laws<'l>,
 }
 
 impl<'l> Scene<'_, 'l> {
+    /// Body `i`'s collider.
+    #[inline(always)]
+    fn collider(&self, i: usize) -> Collider<'_> {
+        collider(self.kinds[i], &self.geoms[i])
+    }
+
     /// Body `i` as a side of a candidate.
     #[inline(always)]
     fn side(&self, i: usize) -> Side {
@@ -398,9 +401,8 @@ impl<'l> Candidates<'l> for WallList<'_, 'l> {
         buf: &mut Vec<ContactPoint>,
         counters: &mut KernelCounters,
     ) {
-        let g = &self.scene.geoms[i as usize];
         let wall = Collider::Wall(&self.walls[w as usize]);
-        contacts(Collider::Fibre(g), wall, buf, counters);
+        contacts(self.scene.collider(i as usize), wall, buf, counters);
     }
 
     #[inline(always)]
@@ -419,7 +421,7 @@ impl<'l> Candidates<'l> for WallList<'_, 'l> {
     }
 }
 
-/// The fibre pair candidates `(i, j)`, with their memories, whose
+/// The body pair candidates `(i, j)`, with their memories, whose
 /// contacts `kernel` gives.
 struct PairList<'a, 'l, K> {
     scene: Scene<'a, 'l>,
@@ -441,10 +443,9 @@ impl<'l, K: PairKernel> Candidates<'l> for PairList<'_, 'l, K> {
         counters: &mut KernelCounters,
     ) {
         let (a, b) = (a as usize, b as usize);
-        let geoms = self.scene.geoms;
         let motion = f64::from(self.motion[a]) + f64::from(self.motion[b]);
-        let kernel = self.kernel;
-        kernel.contacts(&geoms[a], &geoms[b], buf, counters, memory, motion);
+        let (ca, cb) = (self.scene.collider(a), self.scene.collider(b));
+        self.kernel.contacts(ca, cb, buf, counters, memory, motion);
     }
 
     #[inline(always)]
@@ -769,8 +770,8 @@ pub(crate) type Dissipative<'a> = (&'a mut [DVec3], &'a mut [DVec3]);
 
 impl Blocks {
     /// The contact forces and torques of every body (overwritten), and the
-    /// scene statistics, from the candidates of `list` at the fibres'
-    /// `geoms` (their pairs' memories spending the bodies' `motion`
+    /// scene statistics, from the candidates of `list` at the bodies'
+    /// `geoms` of collider `kinds` (their pairs' memories spending the bodies' `motion`
     /// bounds), the `walls` and the `laws`, on `workers` threads (the
     /// same bits for any number); with `dissipative`, the laws'
     /// non-conservative loads per body too. With `keep_hits` the rings
@@ -780,7 +781,7 @@ impl Blocks {
         &mut self,
         kernel: &K,
         list: &mut NeighbourList,
-        (geoms, motion, walls): (&[FibreGeom], &[f32], &[Wall]),
+        (geoms, kinds, motion, walls): (&[FibreGeom], &[ColliderKind], &[f32], &[Wall]),
         laws: &Laws,
         (force, torque): (&mut [DVec3], &mut [DVec3]),
         counters: &mut KernelCounters,
@@ -834,7 +835,7 @@ impl Blocks {
             stats: ContactStats::default(),
             counters,
         };
-        let scene = Scene { geoms, laws };
+        let scene = Scene { geoms, kinds, laws };
         // One worker adds each point's loads as it makes them; blocks are
         // made for the pool, and to keep the hits.
         let direct = workers == 1 && !keep_hits;

@@ -1,5 +1,6 @@
-//! Contacts of rigid flat-ended cylindrical fibres (with each other and with
-//! the walls of a box) and the Hertz force law they feed (docs/physics.md §3).
+//! Contacts of rigid flat-ended cylindrical fibres and spheres (with each
+//! other and with the walls of a box) and the Hertz force law they feed
+//! (docs/physics.md §3).
 //!
 //! Every kernel appends [`ContactPoint`]s; the force on body A is
 //! `weight * F_hertz(overlap) * normal` acting at `point` (on B the opposite),
@@ -8,8 +9,9 @@
 //! by finite differences in the tests), except on documented measure-zero
 //! switching sets.
 //!
-//! The pieces: [`dispatch`] maps a shape pair to its kernel
-//! ([`fibre_wall`], [`fibre_fibre`]); `law/` turns a contact point into
+//! The pieces: [`shape`] gives each body its collider kind and geometry
+//! record; [`dispatch`] maps a kind pair to its kernel ([`fibre_fibre`],
+//! [`fibre_wall`], [`sphere_sphere`], [`sphere_wall`], [`sphere_fibre`]); `law/` turns a contact point into
 //! its loads (the Hertz law [`hertz`], the restitution [`damping`]), its
 //! constants tabled once per pair of contact kinds; [`broad`] keeps the
 //! candidate pairs; `blocks.rs` is the one loop over them; `ledger.rs`
@@ -33,6 +35,7 @@ pub(crate) mod memory;
 pub(crate) mod overlap_check;
 #[cfg(feature = "replay")]
 pub mod replay;
+pub mod shape;
 pub mod sphere;
 pub mod sphere_fibre;
 pub mod sphere_sphere;
@@ -46,6 +49,7 @@ pub use dispatch::{contacts, contacts_remembering, Collider};
 pub use fibre_fibre::{contact_fibre_fibre, contact_fibre_fibre_remembering, PairMemory};
 pub use fibre_wall::contact_fibre_wall;
 pub use hertz::HertzLaw;
+pub use shape::ColliderKind;
 pub use sphere::SphereGeom;
 pub use sphere_fibre::{
     contact_fibre_sphere, contact_sphere_fibre, sphere_fibre_depth, SphereFibreDepth,
@@ -57,7 +61,9 @@ pub use walls::{box_walls, Wall, Walls};
 
 use glam::DVec3;
 
-/// A fibre as the kernels see it: solid flat-ended cylinder.
+/// A fibre as the kernels see it: solid flat-ended cylinder. Also the
+/// contact stage's record of every body, a sphere's with zero half length
+/// (`shape.rs`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FibreGeom {
     /// Centre of mass (world).

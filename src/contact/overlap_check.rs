@@ -1,5 +1,5 @@
 //! The start-up overlap check of a scene, in O(N): a uniform cell grid over
-//! the boxes of the fibres' axis capsules, a capsule test (exact bound: the
+//! the boxes of the bodies' axis capsules (a sphere's: zero length), a capsule test (exact bound: the
 //! cylinder lies inside the capsule, and penetration depth only grows with
 //! the bodies), and the stage's own kernels for the pairs whose capsules
 //! overlap by more than the tolerance.
@@ -13,7 +13,7 @@
 //! the order of the O(N²) check it replaces (walls first by body, then pairs
 //! `(i, j)` lexicographically), so messages name the same bodies.
 
-use super::stage::geom;
+use super::shape::{collider, geom, kinds};
 use super::{box_walls, contacts, Collider, FibreGeom, KernelCounters, Walls};
 use crate::body::{Body, BodyState};
 use glam::DVec3;
@@ -37,6 +37,8 @@ pub(crate) fn first_overlap(
         .zip(states)
         .map(|(b, s)| geom(b, s))
         .collect();
+    let kinds = kinds(bodies);
+    let body = |i: usize| collider(kinds[i], &geoms[i]);
     let too_deep = |overlap: f64, d: f64| tolerance == 0.0 || overlap > tolerance * d;
     let walls = walls.map(box_walls).unwrap_or_default();
     // Walls: by body, in body order (cheap analytic kernel).
@@ -47,7 +49,7 @@ pub(crate) fn first_overlap(
             .iter()
             .find_map(|w| {
                 pts.clear();
-                contacts(Collider::Fibre(g), Collider::Wall(w), &mut pts, &mut k);
+                contacts(body(i), Collider::Wall(w), &mut pts, &mut k);
                 deepest(&pts).filter(|&o| too_deep(o, 2.0 * g.radius))
             })
             .map(|o| (i, None, o))
@@ -75,7 +77,7 @@ pub(crate) fn first_overlap(
                     return;
                 }
                 pts.clear();
-                contacts(Collider::Fibre(a), Collider::Fibre(b), &mut pts, &mut k);
+                contacts(body(i), body(j), &mut pts, &mut k);
                 if let Some(o) = deepest(&pts).filter(|&o| too_deep(o, d)) {
                     best = Some((i, Some(j), o));
                 }
@@ -215,6 +217,8 @@ mod tests {
         tol: f64,
     ) -> Option<Overlap> {
         let geoms: Vec<FibreGeom> = bodies.iter().zip(states).map(|(b, s)| geom(b, s)).collect();
+        let kinds = kinds(bodies);
+        let body = |i: usize| collider(kinds[i], &geoms[i]);
         let walls = walls.map(box_walls).unwrap_or_default();
         let mut pts = vec![];
         let mut k = KernelCounters::default();
@@ -222,7 +226,7 @@ mod tests {
         for (i, g) in geoms.iter().enumerate() {
             for w in &walls {
                 pts.clear();
-                contacts(Collider::Fibre(g), Collider::Wall(w), &mut pts, &mut k);
+                contacts(body(i), Collider::Wall(w), &mut pts, &mut k);
                 if let Some(o) = deepest(&pts).filter(|&o| deep(o, 2.0 * g.radius)) {
                     return Some((i, None, o));
                 }
@@ -232,7 +236,7 @@ mod tests {
             for j in i + 1..geoms.len() {
                 pts.clear();
                 let (a, b) = (&geoms[i], &geoms[j]);
-                contacts(Collider::Fibre(a), Collider::Fibre(b), &mut pts, &mut k);
+                contacts(body(i), body(j), &mut pts, &mut k);
                 if let Some(o) = deepest(&pts).filter(|&o| deep(o, 2.0 * a.radius.min(b.radius))) {
                     return Some((i, Some(j), o));
                 }
@@ -256,17 +260,19 @@ mod tests {
         let mut r = Rng(seed);
         let mut bodies = vec![];
         let mut states = vec![];
-        for _ in 0..n {
+        for k in 0..n {
             let d = 0.005 + 0.01 * r.next();
             let l = 0.01 + 0.05 * r.next();
-            bodies.push(Body::new(
-                Shape::Fibre {
+            // Every third body a sphere (of up to 2 cm): fibre–fibre,
+            // sphere–fibre, sphere–sphere and both wall kinds.
+            let shape = match k % 3 {
+                2 => Shape::Sphere { diameter: 2.0 * d },
+                _ => Shape::Fibre {
                     diameter: d,
                     length: l,
                 },
-                0,
-                1000.0,
-            ));
+            };
+            bodies.push(Body::new(shape, 0, 1000.0));
             let axis = DVec3::new(r.next() - 0.5, r.next() - 0.5, r.next() - 0.5).normalize();
             states.push(BodyState {
                 x: DVec3::new(r.next(), r.next(), r.next()) * side,
@@ -280,8 +286,8 @@ mod tests {
         (bodies, states)
     }
 
-    /// Reference: the O(N²) check on random polydisperse scenes, dilute to
-    /// dense, with and without walls and tolerance.
+    /// Reference: the O(N²) check on random polydisperse scenes of fibres
+    /// and spheres, dilute to dense, with and without walls and tolerance.
     #[test]
     fn the_grid_finds_what_the_full_search_finds() {
         let walls = Walls {

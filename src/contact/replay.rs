@@ -24,7 +24,7 @@
 
 use super::blocks::PairKernel;
 use super::fibre_fibre::PairMemory;
-use super::{contacts_remembering, Collider, ContactPoint, FibreGeom, KernelCounters};
+use super::{contacts_remembering, Collider, ContactPoint, KernelCounters};
 use glam::DVec3;
 use std::cell::RefCell;
 use std::io::Write;
@@ -91,8 +91,8 @@ impl PairKernel for Replaying {
     #[inline]
     fn contacts(
         &self,
-        a: &FibreGeom,
-        b: &FibreGeom,
+        a: Collider,
+        b: Collider,
         out: &mut Vec<ContactPoint>,
         counters: &mut KernelCounters,
         memory: &mut PairMemory,
@@ -102,7 +102,6 @@ impl PairKernel for Replaying {
             return;
         }
         let (kept_before, counted) = (memory.in_regime(), *counters);
-        let (a, b) = (Collider::Fibre(a), Collider::Fibre(b));
         contacts_remembering(a, b, out, counters, Some((memory, motion)));
         if recording() {
             record(classify(kept_before, &counted, counters), out, memory);

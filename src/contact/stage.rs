@@ -16,8 +16,10 @@ use super::fibre_fibre::{dome_sag, PairMemory};
 use super::law::{LawTable, Laws};
 use super::ledger::WorkLedger;
 use super::memory::{entries, Entry};
+pub use super::shape::geom;
+use super::shape::{collider, kinds, ColliderKind};
 use super::{box_walls, contacts, Collider, FibreGeom, KernelCounters, Wall, Walls};
-use crate::body::{Body, BodyState, Material, Shape};
+use crate::body::{Body, BodyState, Material};
 use glam::DVec3;
 
 /// What the last force computation saw.
@@ -25,7 +27,7 @@ use glam::DVec3;
 pub struct ContactStats {
     /// Touching pairs (body–body or body–wall).
     pub touching: usize,
-    /// Largest overlap over the fibre diameter, δ/D.
+    /// Largest overlap over the body's diameter, δ/D.
     pub max_overlap_ratio: f64,
     /// The body that largest overlap ratio is on.
     pub max_overlap_body: usize,
@@ -40,7 +42,10 @@ pub struct ContactStage {
     /// The six walls (none without a box).
     walls: Vec<Wall>,
     laws: LawTable,
+    /// Each body's geometry record (`shape.rs`) at the last computation.
     geoms: Vec<FibreGeom>,
+    /// Each body's collider kind, by storage index.
+    kinds: Vec<ColliderKind>,
     neighbours: NeighbourList,
     counters: KernelCounters,
     /// The work of the laws' non-conservative loads, if they have any.
@@ -57,23 +62,10 @@ pub struct ContactStage {
     pub stats: ContactStats,
 }
 
-/// Neighbour-list skin as a fraction of the thinnest fibre's diameter. Wider
+/// Neighbour-list skin as a fraction of the thinnest body's diameter. Wider
 /// means fewer rebuilds and more candidates to reject; at 0.2 D test case 2
 /// (fibres at ≤ 5 m/s, δt = 1e-7 s) rebuilds once per ~1500 steps.
 pub(crate) const SKIN_PER_DIAMETER: f64 = 0.2;
-
-/// The kernels' view of fibre `body` at state `s`.
-pub fn geom(body: &Body, s: &BodyState) -> FibreGeom {
-    let Shape::Fibre { diameter, length } = body.shape else {
-        unreachable!("scene validation admits only fibres in contact scenes")
-    };
-    FibreGeom {
-        centre: s.x,
-        axis: crate::math::body_x_axis(s.rot.q),
-        radius: 0.5 * diameter,
-        half_length: 0.5 * length,
-    }
-}
 
 /// Put `new` in place of `g`; the [`motion_bound`] between them.
 #[inline]
@@ -83,7 +75,7 @@ fn move_to(g: &mut FibreGeom, new: FibreGeom) -> f32 {
     m
 }
 
-/// A bound on how far any point of the fibre moved from `old` to `new`
+/// A bound on how far any point of the body moved from `old` to `new`
 /// (so how much any of its support values changed): the centre's shift
 /// plus the farthest point's `ρ |Δa|` (the least rotation taking one axis
 /// to the other moves a point at distance ρ from the centre by ρ|Δa|).
@@ -113,6 +105,7 @@ impl ContactStage {
             walls: walls.map(box_walls).unwrap_or_default(),
             laws: LawTable::new(bodies, materials, walls),
             geoms: Vec::with_capacity(bodies.len()),
+            kinds: kinds(bodies),
             neighbours: NeighbourList::new(SKIN_PER_DIAMETER * thinnest),
             counters: KernelCounters::default(),
             ledger: None,
@@ -212,16 +205,14 @@ impl ContactStage {
             contacts(a, b, &mut points, &mut counters);
             !points.is_empty()
         };
+        let body = |i: usize| collider(self.kinds[i], &self.geoms[i]);
         for &(i, k) in &self.neighbours.walls {
             let (i, wall) = (i as usize, &self.walls[k as usize]);
-            count[i] += touch(Collider::Fibre(&self.geoms[i]), Collider::Wall(wall)) as u32;
+            count[i] += touch(body(i), Collider::Wall(wall)) as u32;
         }
         for &(a, b) in &self.neighbours.pairs {
             let (a, b) = (a as usize, b as usize);
-            let t = touch(
-                Collider::Fibre(&self.geoms[a]),
-                Collider::Fibre(&self.geoms[b]),
-            ) as u32;
+            let t = touch(body(a), body(b)) as u32;
             count[a] += t;
             count[b] += t;
         }
@@ -244,7 +235,7 @@ impl ContactStage {
         self.stats = candidate_loop(
             &mut self.blocks,
             &mut self.neighbours,
-            (&self.geoms, &self.motion, &self.walls),
+            (&self.geoms, &self.kinds, &self.motion, &self.walls),
             &laws,
             (force, torque),
             &mut self.counters,
@@ -316,7 +307,7 @@ impl ContactStage {
 fn candidate_loop(
     blocks: &mut Blocks,
     list: &mut NeighbourList,
-    scene: (&[FibreGeom], &[f32], &[Wall]),
+    scene: (&[FibreGeom], &[ColliderKind], &[f32], &[Wall]),
     laws: &Laws,
     loads: (&mut [DVec3], &mut [DVec3]),
     counters: &mut KernelCounters,
@@ -448,7 +439,7 @@ impl ContactStage {
         candidate_loop(
             &mut self.blocks,
             list,
-            (&self.geoms, &self.motion, &self.walls),
+            (&self.geoms, &self.kinds, &self.motion, &self.walls),
             &laws,
             (force, torque),
             &mut self.counters,
@@ -611,7 +602,8 @@ mod tests {
             let i = i as usize;
             points.clear();
             let wall = Collider::Wall(&stage.walls[k as usize]);
-            contacts(Collider::Fibre(&geoms[i]), wall, &mut points, &mut counters);
+            let body = collider(stage.kinds[i], &geoms[i]);
+            contacts(body, wall, &mut points, &mut counters);
             add(&laws.wall(side(i)), &points, i, None);
         }
         let list = &mut stage.neighbours;
@@ -619,7 +611,8 @@ mod tests {
             let (a, b) = (a as usize, b as usize);
             let motion = f64::from(stage.motion[a]) + f64::from(stage.motion[b]);
             points.clear();
-            let (fa, fb) = (Collider::Fibre(&geoms[a]), Collider::Fibre(&geoms[b]));
+            let kinds = &stage.kinds;
+            let (fa, fb) = (collider(kinds[a], &geoms[a]), collider(kinds[b], &geoms[b]));
             contacts_remembering(fa, fb, &mut points, &mut counters, Some((memory, motion)));
             add(&laws.pair(side(a), side(b)), &points, a, Some(b));
         }

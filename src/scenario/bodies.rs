@@ -60,9 +60,6 @@ pub(super) fn build_body(
         (ShapeName::Sphere, Some(_)) => return Err(cx.err(&key("length"), check::SPHERE_LENGTH)),
         (ShapeName::Rigid, _) => unreachable!("built above"),
     };
-    if needs_contacts && matches!(shape, Shape::Sphere { .. }) {
-        return Err(cx.err(&key("shape"), check::SPHERE_CONTACTS));
-    }
 
     // Material: a named table or inline values, not both. Messages name
     // where the value was given.

@@ -125,9 +125,6 @@ pub(super) const NO_BODIES: &str =
 /// A sphere with a length.
 pub(super) const SPHERE_LENGTH: &str =
     "a sphere has no `length`; remove it or use shape = \"fibre\"";
-/// A sphere that can touch something.
-pub(super) const SPHERE_CONTACTS: &str =
-    "spheres are supported only in contact-free scenes (one body, no [box]); use fibres";
 /// Both a material name and inline values.
 pub(super) const MATERIAL_AND_INLINE: &str =
     "give either `material` or inline density/young/poisson, not both";

@@ -134,7 +134,7 @@ pub struct MaterialSection {
 pub enum ShapeName {
     /// Flat-ended solid cylinder.
     Fibre,
-    /// Solid sphere (contact-free scenes only).
+    /// Solid sphere.
     Sphere,
     /// A general rigid body given by `mass` and principal `inertia`
     /// (contact-free scenes only).

@@ -550,9 +550,6 @@ impl Pass {
             if b.contains_key("length") {
                 self.problem(at("length"), check::SPHERE_LENGTH);
             }
-            if contacts {
-                self.problem(at("shape"), check::SPHERE_CONTACTS);
-            }
         }
         if let Some(m) = b.get("material") {
             if ["density", "young", "poisson"]

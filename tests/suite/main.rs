@@ -37,6 +37,7 @@ mod rotator_order;
 mod rotators;
 mod scenario_reference;
 mod settle;
+mod spheres;
 mod stress;
 mod study;
 mod summary_resume;

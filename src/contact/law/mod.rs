@@ -24,7 +24,7 @@
 
 mod table;
 
-pub(crate) use table::LawTable;
+pub(crate) use table::{body_law, body_wall_law, LawTable};
 
 use super::{ContactPoint, HertzLaw};
 use crate::body::{Body, BodyState};

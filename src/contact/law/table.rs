@@ -2,19 +2,21 @@
 //! once per scene: the Hertz law of each pair of kinds, and the scene's
 //! restitution damping (one constant for body pairs, one for walls).
 //!
-//! A Hertz law depends on a body only through its material and its
-//! diameter ([`HertzLaw`]), so bodies sharing both are one contact kind: a
-//! bed of identical fibres has one kind, one fibre–fibre law and one
-//! fibre–wall law. The laws are built by the same functions, from the same
+//! A Hertz law depends on a body only through its collider kind (fibre,
+//! sphere), its material and its diameter ([`HertzLaw`]), so bodies
+//! sharing the three are one contact kind: a bed of identical fibres has
+//! one kind, one fibre–fibre law and one fibre–wall law. The law of a
+//! pair of kinds is the one of its collider kinds (`HertzLaw::fibre_fibre`,
+//! `sphere_sphere`, `sphere_fibre`; `fibre_wall`, `sphere_wall`). The laws are built by the same functions, from the same
 //! numbers in the same order, as a law built for each pair would be:
 //! bit-identical.
 
 use crate::body::{Body, Material};
 use crate::contact::damping::{damping_constant, Restitution};
-use crate::contact::{HertzLaw, Walls};
+use crate::contact::{ColliderKind, HertzLaw, Walls};
 use std::collections::HashMap;
 
-/// Up to this many kinds the fibre–fibre laws are a dense `kinds²` table
+/// Up to this many kinds the body–body laws are a dense `kinds²` table
 /// (64 KiB at the limit); with more (a polydisperse bed) each touching pair
 /// builds its law from its two kinds.
 const MAX_TABLE_KINDS: usize = 64;
@@ -22,6 +24,7 @@ const MAX_TABLE_KINDS: usize = 64;
 /// What a law needs of one contact kind.
 #[derive(Clone, Copy, Debug)]
 struct Kind {
+    shape: ColliderKind,
     diameter: f64,
     young: f64,
     poisson: f64,
@@ -37,9 +40,9 @@ pub(crate) struct LawTable {
     kind_of: Vec<u32>,
     /// The kinds, in order of first appearance.
     kinds: Vec<Kind>,
-    /// Fibre–wall law of each kind (empty without walls).
+    /// Body–wall law of each kind (empty without walls).
     wall: Vec<HertzLaw>,
-    /// Fibre–fibre law of kinds `(i, j)` at `i * kinds.len() + j`; empty
+    /// Body–body law of kinds `(i, j)` at `i * kinds.len() + j`; empty
     /// above [`MAX_TABLE_KINDS`] kinds.
     pair: Vec<HertzLaw>,
 }
@@ -48,17 +51,20 @@ impl LawTable {
     /// The laws of `bodies` (made of `materials`) with each other and with
     /// `walls`.
     pub(crate) fn new(bodies: &[Body], materials: &[Material], walls: Option<&Walls>) -> Self {
-        let mut index: HashMap<(u32, u64), u32> = HashMap::new();
+        let mut index: HashMap<(ColliderKind, u32, u64), u32> = HashMap::new();
         let mut kinds = vec![];
         let kind_of = bodies
             .iter()
             .map(|b| {
                 let diameter = b.shape.diameter();
+                let shape = ColliderKind::of(&b.shape)
+                    .expect("scene validation admits no rigid body in contact scenes");
                 *index
-                    .entry((b.material, diameter.to_bits()))
+                    .entry((shape, b.material, diameter.to_bits()))
                     .or_insert_with(|| {
                         let m = &materials[b.material as usize];
                         kinds.push(Kind {
+                            shape,
                             diameter,
                             young: m.young,
                             poisson: m.poisson,
@@ -68,10 +74,7 @@ impl LawTable {
             })
             .collect();
         let wall = match walls {
-            Some(w) => kinds
-                .iter()
-                .map(|k| HertzLaw::fibre_wall(k.diameter, k.young, k.poisson, w.young, w.poisson))
-                .collect(),
+            Some(w) => kinds.iter().map(|&k| wall_law(k, w)).collect(),
             None => vec![],
         };
         let pair = if kinds.len() <= MAX_TABLE_KINDS {
@@ -141,13 +144,63 @@ impl LawTable {
     }
 }
 
-/// Fibre–fibre law of kinds `a` and `b`, in the argument order of a pair
-/// `(a, b)`.
+impl Kind {
+    /// The contact kind of `body`, made of `m`.
+    fn of(body: &Body, m: &Material) -> Self {
+        Kind {
+            shape: ColliderKind::of(&body.shape)
+                .expect("scene validation admits no rigid body in contact scenes"),
+            diameter: body.shape.diameter(),
+            young: m.young,
+            poisson: m.poisson,
+        }
+    }
+}
+
+/// The Hertz law of body `a` (made of `ma`) against body `b` (made of
+/// `mb`): the law the table holds for their kinds (the time-step advice
+/// reads it).
+pub(crate) fn body_law(a: &Body, ma: &Material, b: &Body, mb: &Material) -> HertzLaw {
+    pair_law(Kind::of(a, ma), Kind::of(b, mb))
+}
+
+/// The Hertz law of body `a` (made of `ma`) against the walls `w`.
+pub(crate) fn body_wall_law(a: &Body, ma: &Material, w: &Walls) -> HertzLaw {
+    wall_law(Kind::of(a, ma), w)
+}
+
+/// The law of kinds `a` and `b`, by their collider kinds, in the argument
+/// order of a pair `(a, b)` (a sphere–fibre law takes the sphere first).
 #[inline]
 fn pair_law(a: Kind, b: Kind) -> HertzLaw {
-    HertzLaw::fibre_fibre(
-        a.diameter, a.young, a.poisson, b.diameter, b.young, b.poisson,
-    )
+    use ColliderKind::*;
+    match (a.shape, b.shape) {
+        (Fibre, Fibre) => HertzLaw::fibre_fibre(
+            a.diameter, a.young, a.poisson, b.diameter, b.young, b.poisson,
+        ),
+        (Sphere, Sphere) => HertzLaw::sphere_sphere(
+            a.diameter, a.young, a.poisson, b.diameter, b.young, b.poisson,
+        ),
+        (Sphere, Fibre) => HertzLaw::sphere_fibre(
+            a.diameter, a.young, a.poisson, b.diameter, b.young, b.poisson,
+        ),
+        (Fibre, Sphere) => HertzLaw::sphere_fibre(
+            b.diameter, b.young, b.poisson, a.diameter, a.young, a.poisson,
+        ),
+    }
+}
+
+/// The law of kind `k` against the walls `w`.
+#[inline]
+fn wall_law(k: Kind, w: &Walls) -> HertzLaw {
+    match k.shape {
+        ColliderKind::Fibre => {
+            HertzLaw::fibre_wall(k.diameter, k.young, k.poisson, w.young, w.poisson)
+        }
+        ColliderKind::Sphere => {
+            HertzLaw::sphere_wall(k.diameter, k.young, k.poisson, w.young, w.poisson)
+        }
+    }
 }
 
 #[cfg(test)]
@@ -211,6 +264,60 @@ mod tests {
                 assert_eq!(bits(&t.pair(i, j)), bits(&law), "pair {i} {j}");
             }
         }
+    }
+
+    fn sphere(diameter: f64, material: u32) -> Body {
+        Body::new(Shape::Sphere { diameter }, material, 1100.0)
+    }
+
+    /// Reference: the law of each kind pair written out (Johnson's sphere
+    /// laws, the fibre conventions; `hertz_spheres.rs`), for a mixed bed
+    /// whose sphere and fibre share a diameter and a material (mutant
+    /// tried: the kinds keyed without the collider kind, so the sphere
+    /// takes the fibre's wall law).
+    #[test]
+    fn a_mixed_bed_has_the_law_of_each_kind_pair() {
+        let materials = [material(5e7, 0.35), material(2.1e9, 0.23)];
+        let bodies = [fibre(0.01, 0), sphere(0.01, 0), sphere(0.003, 1), fibre(0.01, 0)];
+        let t = LawTable::new(&bodies, &materials, Some(&WALLS));
+        assert_eq!(t.kinds.len(), 3);
+        let bits = |l: &HertzLaw| (l.e_star.to_bits(), l.r_star.to_bits());
+        let m = |i: usize| &materials[bodies[i].material as usize];
+        let d = |i: usize| bodies[i].shape.diameter();
+        for i in 0..bodies.len() {
+            let wall = match bodies[i].shape {
+                Shape::Sphere { .. } => HertzLaw::sphere_wall,
+                _ => HertzLaw::fibre_wall,
+            }(d(i), m(i).young, m(i).poisson, WALLS.young, WALLS.poisson);
+            assert_eq!(bits(t.wall(i)), bits(&wall), "wall, body {i}");
+            for j in 0..bodies.len() {
+                let (si, sj) = (
+                    matches!(bodies[i].shape, Shape::Sphere { .. }),
+                    matches!(bodies[j].shape, Shape::Sphere { .. }),
+                );
+                let (a, b) = match (si, sj) {
+                    (false, true) => (j, i),
+                    _ => (i, j),
+                };
+                let law = match (si, sj) {
+                    (true, true) => HertzLaw::sphere_sphere,
+                    (false, false) => HertzLaw::fibre_fibre,
+                    _ => HertzLaw::sphere_fibre,
+                }(
+                    d(a),
+                    m(a).young,
+                    m(a).poisson,
+                    d(b),
+                    m(b).young,
+                    m(b).poisson,
+                );
+                assert_eq!(bits(&t.pair(i, j)), bits(&law), "pair {i} {j}");
+            }
+        }
+        // The sphere–wall law is not the fibre–wall law of the same
+        // diameter and material in general; here they agree in value (one
+        // formula), so the kinds must still differ by collider kind.
+        assert_ne!(t.kind_of[0], t.kind_of[1]);
     }
 
     #[test]
