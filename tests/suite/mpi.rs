@@ -212,6 +212,14 @@ fn one_and_two_ranks_give_the_bytes_of_one_process() {
     same_bytes_with(&[1, 2]);
 }
 
+/// A dense mixed bed (200 fibres and 120 spheres, the lattice above with
+/// every third cell a sphere): the ghost width, the slabs and the tally
+/// treat every shape alike.
+#[test]
+fn a_mixed_bed_under_two_ranks_gives_the_bytes_of_one_process() {
+    same_bytes_of(&scene_with(common::packed_mixed_scene(5, 8, 8, 3e-3)), &[2]);
+}
+
 /// The staggered rotators' half-step state (`Rotator::Aux`) migrates with
 /// its body between ranks.
 #[test]

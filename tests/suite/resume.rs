@@ -260,9 +260,19 @@ fn sigint_writes_a_checkpoint_and_resume_completes_identically() {
 /// checkpoint's binary states take at most 200 bytes per fibre.
 #[test]
 fn resume_of_a_dense_scene_gives_the_same_bytes() {
+    resume_of_a_dense_scene(&common::packed_scene(6, 8, 8, 6e-4));
+}
+
+/// The same with a dense mixed bed (256 fibres, 128 spheres).
+#[test]
+fn resume_of_a_dense_mixed_bed_gives_the_same_bytes() {
+    resume_of_a_dense_scene(&common::packed_mixed_scene(6, 8, 8, 6e-4));
+}
+
+fn resume_of_a_dense_scene(text: &str) {
     let dir = tempfile::tempdir().unwrap();
     let scene = dir.path().join("packed.toml");
-    std::fs::write(&scene, common::packed_scene(6, 8, 8, 6e-4)).unwrap();
+    std::fs::write(&scene, text).unwrap();
     let scene = scene.to_str().unwrap();
     let (whole, split) = (dir.path().join("w"), dir.path().join("s"));
     let t = ["--threads", "2", "-q", "--every", "50"];
@@ -273,7 +283,7 @@ fn resume_of_a_dense_scene_gives_the_same_bytes() {
     let states = std::fs::metadata(states_file(&split)).unwrap().len();
     assert!(
         states <= 200 * 384,
-        "{states} bytes of states for 384 fibres"
+        "{states} bytes of states for 384 bodies"
     );
     resume_to(&ckpt, "6e-4", &["--threads", "2"]);
     assert_eq!(

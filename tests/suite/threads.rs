@@ -89,6 +89,14 @@ fn bed_output_bytes_do_not_depend_on_the_thread_count() {
     same_bytes_with_any_thread_count(&text);
 }
 
+/// A dense mixed bed (`common::packed_mixed_scene`: 256 fibres and 128
+/// spheres): every kind pair's contacts go through the blocks in list
+/// order too.
+#[test]
+fn mixed_bed_output_bytes_do_not_depend_on_the_thread_count() {
+    same_bytes_with_any_thread_count(&common::packed_mixed_scene(6, 8, 8, 6e-4));
+}
+
 /// Runs `text` with 1, 2, 4 and `RAYON_NUM_THREADS=3` threads, asserts the
 /// same bytes, and returns the one-thread `energy.csv`.
 fn same_bytes_with_any_thread_count(text: &str) -> String {
