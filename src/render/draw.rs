@@ -58,8 +58,10 @@ fn ellipse(pb: &mut PathBuilder, c: (f64, f64), u: (f64, f64), v: (f64, f64)) {
     pb.close();
 }
 
-/// Draw one fibre in `rgb`.
+/// Draw one fibre in `rgb`. A body of zero length (a sphere) is drawn as
+/// the capsule of zero length it is, a shaded disc, whatever `capsule`.
 pub(crate) fn fibre(pm: &mut PixmapMut<'_>, cam: &Camera, f: &Fibre, rgb: [u8; 3], capsule: bool) {
+    let capsule = capsule || f.length == 0.0;
     let h = 0.5 * f.length * f.axis;
     let (x1, y1, _) = cam.project(f.centre - h);
     let (x2, y2, _) = cam.project(f.centre + h);

@@ -256,6 +256,48 @@ fn check_prints_mass_inertia_hertz_and_rayleigh_times() {
     assert!((margin / (rec / 1e-7) - 1.0).abs() < 1e-3, "{line}");
 }
 
+/// A sphere (D = 0.01 m, 0.05 m above the floor) over a fibre lying on
+/// it: the sphere–wall row has the Hertz time of the sphere itself (every
+/// normal through its centre, m* = m, R* = D/2), the sphere–fibre row sums
+/// 1/m of the sphere and 1/m_eff of the fibre at `1/R* = 2/D_s + 2/D_f`,
+/// the Rayleigh time is the sphere's radius's, and a fibre's face rocking
+/// on a sphere of radius 5 mm < L/2 has no tilt mode (inf).
+#[test]
+fn check_times_sphere_contacts() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "[simulation]\ndt = 1e-6\nt_end = 0.02\n[world]\ngravity = [0.0, 0.0, -9.81]\n[box]\nmin = [0.0, 0.0, 0.0]\nmax = [0.1, 0.1, 0.1]\nyoung = 5e7\npoisson = 0.23\n[material.m]\ndensity = 1100.0\nyoung = 5e7\npoisson = 0.35\n[[body]]\nname = \"ball\"\nshape = \"sphere\"\nmaterial = \"m\"\ndiameter = 0.01\nposition = [0.05, 0.05, 0.05]\n[[body]]\nname = \"rod\"\nshape = \"fibre\"\nmaterial = \"m\"\ndiameter = 0.01\nlength = 0.025\nposition = [0.05, 0.05, 0.02]\naxis = [1.0, 0.0, 0.0]\n";
+    let out = stdout(&fibresim(&["check", &write_scene(dir.path(), text)]));
+    let f = TC1;
+    let m_s = 1100.0 * PI * 0.01f64.powi(3) / 6.0;
+    let v_s = (2.0 * 9.81 * 0.05f64).sqrt();
+    let v_f = (2.0 * f.mass() * 9.81 * 0.02 / f.worst_effective_mass()).sqrt();
+    let pairs = table(&out, "t_Hertz (s)");
+    let t_r = {
+        let g = 5e7 / (2.0 * (1.0 + 0.35));
+        PI * 0.005 * (1100.0f64 / g).sqrt() / (0.1631 * 0.35 + 0.8766)
+    };
+    let wall = row(&pairs, "ball – wall");
+    let e_wall = e_star(5e7, 0.35, 5e7, 0.23);
+    close(num(wall, "m* (kg)"), m_s, "sphere m*");
+    close(num(wall, "v_max (m/s)"), v_s, "sphere v_max");
+    close(
+        num(wall, "t_Hertz (s)"),
+        hertz_time(m_s, 0.005, e_wall, v_s),
+        "sphere–wall t_Hertz",
+    );
+    close(num(wall, "t_Rayleigh (s)"), t_r, "sphere t_Rayleigh");
+    assert_eq!(wall[5].1, "inf", "a sphere has no tilt mode: {wall:?}");
+    let pair = row(&pairs, "ball – rod");
+    let m = 1.0 / (1.0 / m_s + 1.0 / f.worst_effective_mass());
+    close(num(pair, "m* (kg)"), m, "sphere–fibre m*");
+    close(
+        num(pair, "t_Hertz (s)"),
+        hertz_time(m, 1.0 / (2.0 / 0.01 + 2.0 / 0.01), e_star(5e7, 0.35, 5e7, 0.35), v_s + v_f),
+        "sphere–fibre t_Hertz",
+    );
+    assert_eq!(pair[5].1, "inf", "{pair:?}");
+}
+
 /// Nine fibres: a fibre–fibre pair sums both bodies' 1/m_eff and their
 /// speed bounds, each bound from one body's own energy (the highest body's).
 #[test]
