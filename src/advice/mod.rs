@@ -91,7 +91,8 @@ pub struct Advice {
     pub available_energy: f64,
     /// The impact speed given instead of the bound (`--impact-speed`), m/s.
     pub impact_speed: Option<f64>,
-    /// Whether the kinds were grouped by material (more than 16 sizes).
+    /// Whether the kinds were grouped by material and shape (more than 16
+    /// sizes).
     pub grouped_by_material: bool,
     /// One entry per pair type that can touch.
     pub pairs: Vec<PairAdvice>,
@@ -162,8 +163,8 @@ fn tilt_period(b: &Body, law: &HertzLaw, m: f64, v: f64, rho: f64) -> f64 {
 }
 
 /// Above this many distinct (material, D, L) kinds, the advice groups the
-/// bodies by material only (a polydisperse bed), each group represented by
-/// its lightest fibre at the group's fastest speed.
+/// bodies by material and shape only (a polydisperse bed), each group
+/// represented by its lightest body at the group's fastest speed.
 const MAX_KINDS: usize = 16;
 
 /// Kinds of bodies for the advice: a representative body, how many bodies
@@ -178,15 +179,16 @@ fn kinds(scene: &Scene, v_max: &[f64]) -> (Vec<(usize, usize, f64)>, bool) {
             if v_max[i].is_nan() {
                 continue;
             }
-            let (d, l) = match b.shape {
-                Shape::Fibre { diameter, length } => (diameter, length),
-                Shape::Sphere { diameter } => (diameter, -1.0),
+            let (d, l, shape) = match b.shape {
+                Shape::Fibre { diameter, length } => (diameter, length, 0),
+                Shape::Sphere { diameter } => (diameter, -1.0, 1),
                 // Rigid bodies are contact-free: never in a pair; a kind of their own.
-                Shape::Rigid { semi_axes } => (semi_axes.max_element(), -2.0),
+                Shape::Rigid { semi_axes } => (semi_axes.max_element(), -2.0, 2),
             };
             let key = match by_size {
                 true => (b.material, d.to_bits(), l.to_bits()),
-                false => (b.material, 0, 0),
+                // Fibres, spheres and rigid bodies stay apart.
+                false => (b.material, shape, 0),
             };
             let k = *index.entry(key).or_insert_with(|| {
                 out.push((i, 0, 0.0));

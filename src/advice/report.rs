@@ -231,7 +231,7 @@ impl fmt::Display for CheckReport<'_> {
                 None => writeln!(f, "  impact speeds bounded per body: E_i = its kinetic + rotational energy + its fall to the box floor; largest E_avail = {:.4e} J", a.available_energy)?,
             }
             if a.grouped_by_material {
-                writeln!(f, "  (more than 16 fibre sizes: grouped by material, each group as its lightest fibre at its fastest speed)")?;
+                writeln!(f, "  (more than 16 body sizes: grouped by material and shape, each group as its lightest body at its fastest speed)")?;
             }
             writeln!(f, "  m* = effective mass at the worst contact point: 1/m_eff = 1/m + |r x n|^2 / I_transverse, lever arm")?;
             writeln!(f, "  |r x n| = max(D/2, L/2) (a fibre's end hit along its side normal); a pair sums 1/m_eff of its bodies")?;

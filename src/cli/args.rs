@@ -71,14 +71,20 @@ pub enum Command {
 #[derive(Debug, Args)]
 pub struct GenerateArgs {
     /// Number of fibres.
-    #[arg(long)]
+    #[arg(long, default_value_t = 0)]
     pub n: usize,
-    /// Fibre diameter, m: a number, `uniform:MIN:MAX` or `normal:MEAN:SD` (cut at 3 SD).
+    /// Fibre diameter, m: a number, `uniform:MIN:MAX` or `normal:MEAN:SD` (cut at 3 SD) [needed with --n].
     #[arg(long)]
-    pub diameter: String,
-    /// Fibre length, m: a number, `uniform:MIN:MAX` or `normal:MEAN:SD`.
+    pub diameter: Option<String>,
+    /// Fibre length, m: a number, `uniform:MIN:MAX` or `normal:MEAN:SD` [needed with --n].
     #[arg(long)]
-    pub length: String,
+    pub length: Option<String>,
+    /// Number of spheres, placed after the fibres in the room they leave.
+    #[arg(long, default_value_t = 0)]
+    pub spheres: usize,
+    /// Sphere diameter, m: a number, `uniform:MIN:MAX` or `normal:MEAN:SD` [needed with --spheres].
+    #[arg(long)]
+    pub sphere_diameter: Option<String>,
     /// The box (its walls): LX,LY,LZ from the origin, m.
     #[arg(long = "box", value_name = "LX,LY,LZ")]
     pub box_size: String,

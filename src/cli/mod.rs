@@ -74,8 +74,8 @@ pub fn execute(cli: Cli) -> Result<()> {
             let r = crate::generate::generate(&opts)?;
             if !quiet {
                 println!(
-                    "placed {} fibres in {} attempts: volume fraction {:.4} of the region, {:.4} of the box\n-> {} (bodies: {})",
-                    r.placed,
+                    "placed {} in {} attempts: volume fraction {:.4} of the region, {:.4} of the box\n-> {} (bodies: {})",
+                    crate::generate::counted(r.placed - r.spheres, r.spheres),
                     r.attempts,
                     r.volume_fraction,
                     r.box_fraction,

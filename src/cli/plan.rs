@@ -10,7 +10,7 @@ use crate::advice::{advise_with, Advice};
 use crate::contact::damping::Restitution;
 use crate::error::{Error, Result};
 use crate::generate::{
-    place::Placement,
+    place::{Fibres, Placement, Spheres},
     replicate::ReplicateOptions,
     sample::{Orientation, Size},
     GenerateOptions, Velocity,
@@ -373,9 +373,32 @@ fn poisson_flag(flag: &str, v: f64) -> Result<f64> {
 impl GenerateArgs {
     /// Check every flag into the generator's options.
     pub fn plan(self, command: String) -> Result<GenerateOptions> {
-        if self.n == 0 {
-            return Err(Error::bad("command line", "--n", "give at least one fibre"));
+        if self.n == 0 && self.spheres == 0 {
+            return Err(Error::bad(
+                "command line",
+                "--n",
+                "give at least one fibre (--n) or sphere (--spheres)",
+            ));
         }
+        // A size flag that the bodies it sizes need.
+        let needed =
+            |flag: &str, value: &Option<String>, count: usize, what: &str| match (value, count) {
+                (Some(v), _) => size_flag(flag, v).map(Some),
+                (None, 0) => Ok(None),
+                (None, _) => Err(Error::bad(
+                    "command line",
+                    flag,
+                    format!("give {flag} for the {what}, e.g. {flag} 0.01"),
+                )),
+            };
+        let diameter = needed("--diameter", &self.diameter, self.n, "fibres")?;
+        let length = needed("--length", &self.length, self.n, "fibres")?;
+        let sphere_diameter = needed(
+            "--sphere-diameter",
+            &self.sphere_diameter,
+            self.spheres,
+            "spheres",
+        )?;
         let size = numbers::<3>("--box", &self.box_size, "LX,LY,LZ in m, e.g. 0.3,0.3,1.2")?;
         let size = DVec3::from_array(size);
         if size.min_element() <= 0.0 {
@@ -385,8 +408,6 @@ impl GenerateArgs {
                 format!("every side must be > 0, got {size}"),
             ));
         }
-        let diameter = size_flag("--diameter", &self.diameter)?;
-        let length = size_flag("--length", &self.length)?;
         let gap = match self.gap {
             Some(g) if g.is_finite() && g >= 0.0 => g,
             Some(g) => {
@@ -396,9 +417,10 @@ impl GenerateArgs {
                     format!("must be >= 0, got {g}"),
                 ))
             }
-            None => diameter.mean() / 20.0,
+            // The fibres' mean diameter, else the spheres'.
+            None => diameter.or(sphere_diameter).map_or(0.0, |d| d.mean()) / 20.0,
         };
-        // The fibres keep `gap` from the walls too.
+        // The bodies keep `gap` from the walls too.
         let (lo, hi) = match &self.region {
             None => (DVec3::ZERO, size),
             Some(r) => {
@@ -411,11 +433,16 @@ impl GenerateArgs {
             }
         };
         let region = (lo + DVec3::splat(gap), hi - DVec3::splat(gap));
-        if (region.1 - region.0).min_element() <= diameter.max() {
+        let thickest = [diameter, sphere_diameter]
+            .iter()
+            .flatten()
+            .map(|d| d.max())
+            .fold(0.0, f64::max);
+        if (region.1 - region.0).min_element() <= thickest {
             return Err(Error::bad(
                 "command line",
                 "--region",
-                "the region is thinner than a fibre; enlarge it",
+                "the region is thinner than a body; enlarge it",
             ));
         }
         let axis = DVec3::from_array(numbers::<3>("--axis", &self.axis, "X,Y,Z, e.g. 0,0,1")?);
@@ -482,11 +509,23 @@ impl GenerateArgs {
         )?;
         Ok(GenerateOptions {
             placement: Placement {
-                n: self.n,
+                fibres: match (diameter, length) {
+                    (Some(diameter), Some(length)) if self.n > 0 => Some(Fibres {
+                        n: self.n,
+                        diameter,
+                        length,
+                        orientation,
+                    }),
+                    _ => None,
+                },
+                spheres: match sphere_diameter {
+                    Some(diameter) if self.spheres > 0 => Some(Spheres {
+                        n: self.spheres,
+                        diameter,
+                    }),
+                    _ => None,
+                },
                 region,
-                diameter,
-                length,
-                orientation,
                 gap,
                 max_attempts: self.max_attempts.max(1),
             },
@@ -498,7 +537,8 @@ impl GenerateArgs {
             },
             gravity,
             material: crate::body::Material {
-                name: "fibre".into(),
+                // (A bed of spheres only names its material for them.)
+                name: if self.n == 0 { "sphere" } else { "fibre" }.into(),
                 density: positive_flag("--density", self.density)?,
                 young,
                 poisson,

@@ -26,8 +26,8 @@
 use super::broad::NeighbourList;
 use super::fibre_fibre::PairMemory;
 use super::law::{CandidateLaw, Laws, PointLoad, Record, Side, Wrench};
-use super::stage::ContactStats;
 use super::shape::{collider, ColliderKind};
+use super::stage::ContactStats;
 use super::{contacts, Collider, ContactPoint, FibreGeom, KernelCounters, Wall};
 use glam::DVec3;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};

@@ -182,7 +182,10 @@ mod tests {
         ] {
             assert_eq!(&ab, direct);
             assert_eq!(ba.len(), 1);
-            assert_eq!((ba[0].overlap, ba[0].normal), (ab[0].overlap, -ab[0].normal));
+            assert_eq!(
+                (ba[0].overlap, ba[0].normal),
+                (ab[0].overlap, -ab[0].normal)
+            );
             assert!(ba[0].point.distance(ab[0].point) < 1e-15);
         }
         // 0.5 mm off the side, inside the fibre's bounding sphere: apart.

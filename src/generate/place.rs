@@ -1,55 +1,94 @@
-//! Random sequential placement of non-overlapping fibres in a box region, on
-//! a uniform cell grid of the fibres' centres (O(N) for a bounded density).
+//! Random sequential placement of non-overlapping fibres and spheres in a
+//! box region, on a uniform cell grid of the bodies' centres (O(N) for a
+//! bounded density): the fibres first, then the spheres in the room left.
 //!
-//! A candidate (centre uniform where its bounds fit in the region, axis from
-//! the orientation distribution) is accepted when the axis segments of every
-//! placed fibre near it are farther apart than the two radii plus `gap`: the
-//! capsule of a segment holds its cylinder, so accepted fibres never touch.
-//! Grid cells are at least the longest fibre plus the thickest diameter plus
-//! the gap wide, so every fibre that can touch a candidate has its centre in
+//! A candidate (centre uniform where its bounds fit in the region, a fibre's
+//! axis from the orientation distribution) is accepted when the axis
+//! segments of every placed body near it are farther apart than the two
+//! radii plus `gap`: the capsule of a segment holds its cylinder, and a
+//! sphere is the capsule of zero length, so accepted bodies never touch.
+//! Grid cells are at least the longest body plus the thickest diameter plus
+//! the gap wide, so every body that can touch a candidate has its centre in
 //! the 27 cells around the candidate's.
 
 use super::sample::{Orientation, Rng, Size};
+use crate::body::Shape;
 use crate::contact::{fibre_fibre::segment_closest_params, FibreGeom};
 use glam::{DQuat, DVec3};
 
-/// One placed fibre.
+/// One placed body.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Placed {
     /// Centre, m.
     pub x: DVec3,
-    /// Orientation, body → world.
+    /// Orientation, body → world (a sphere's: the identity).
     pub q: DQuat,
-    /// D, m.
-    pub diameter: f64,
-    /// L, m.
-    pub length: f64,
+    /// Its shape and size.
+    pub shape: Shape,
 }
 
-/// What to place.
+/// The fibres to place.
 #[derive(Debug, Clone)]
-pub struct Placement {
-    /// Number of fibres.
+pub struct Fibres {
+    /// How many.
     pub n: usize,
-    /// Region of the centres' bounds (lower, upper corner), m.
-    pub region: (DVec3, DVec3),
     /// Diameter distribution.
     pub diameter: Size,
     /// Length distribution.
     pub length: Size,
     /// Axis distribution.
     pub orientation: Orientation,
-    /// Smallest surface gap between two placed fibres, m.
+}
+
+/// The spheres to place.
+#[derive(Debug, Clone)]
+pub struct Spheres {
+    /// How many.
+    pub n: usize,
+    /// Diameter distribution.
+    pub diameter: Size,
+}
+
+/// What to place.
+#[derive(Debug, Clone)]
+pub struct Placement {
+    /// The fibres, if any.
+    pub fibres: Option<Fibres>,
+    /// The spheres, if any (placed after the fibres).
+    pub spheres: Option<Spheres>,
+    /// Region of the centres' bounds (lower, upper corner), m.
+    pub region: (DVec3, DVec3),
+    /// Smallest surface gap between two placed bodies, m.
     pub gap: f64,
-    /// Candidates tried per fibre before giving up.
+    /// Candidates tried per body before giving up.
     pub max_attempts: u64,
 }
 
-/// The fibres placed, and the candidates drawn for them.
+impl Placement {
+    /// The number of bodies to place.
+    pub fn n(&self) -> usize {
+        self.fibres.as_ref().map_or(0, |f| f.n) + self.spheres.as_ref().map_or(0, |s| s.n)
+    }
+
+    /// The thickest diameter that can be drawn.
+    pub fn max_diameter(&self) -> f64 {
+        let f = self.fibres.as_ref().map_or(0.0, |f| f.diameter.max());
+        f.max(self.spheres.as_ref().map_or(0.0, |s| s.diameter.max()))
+    }
+
+    /// The longest body that can be drawn (a sphere's length is its
+    /// diameter).
+    fn max_extent(&self) -> f64 {
+        let f = self.fibres.as_ref().map_or(0.0, |f| f.length.max());
+        f.max(self.spheres.as_ref().map_or(0.0, |s| s.diameter.max()))
+    }
+}
+
+/// The bodies placed, and the candidates drawn for them.
 #[derive(Debug, Clone)]
 pub struct Layout {
-    /// In placement order.
-    pub fibres: Vec<Placed>,
+    /// In placement order: the fibres, then the spheres.
+    pub bodies: Vec<Placed>,
     /// Candidates drawn in all.
     pub attempts: u64,
 }
@@ -57,7 +96,7 @@ pub struct Layout {
 /// Why placement stopped short.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Jammed {
-    /// Fibres placed before the one that found no room.
+    /// Bodies placed before the one that found no room.
     pub placed: usize,
     /// Their volume fraction of the region.
     pub volume_fraction: f64,
@@ -69,10 +108,11 @@ fn half_extent(a: DVec3, d: f64, l: f64) -> DVec3 {
     0.5 * l * a.abs() + 0.5 * d * DVec3::new(disc.x.sqrt(), disc.y.sqrt(), disc.z.sqrt())
 }
 
-/// Place `p.n` fibres drawn from `rng` (module docs).
+/// Place the fibres, then the spheres, of `p` drawn from `rng` (module
+/// docs).
 pub fn place(p: &Placement, rng: &mut Rng) -> Result<Layout, Jammed> {
     let (lo, hi) = p.region;
-    let cell = p.length.max() + p.diameter.max() + p.gap;
+    let cell = p.max_extent() + p.max_diameter() + p.gap;
     let span = hi - lo;
     let dims = [0, 1, 2].map(|k| ((span[k] / cell).floor() as usize).max(1));
     let cells = dims[0] * dims[1] * dims[2];
@@ -80,30 +120,52 @@ pub fn place(p: &Placement, rng: &mut Rng) -> Result<Layout, Jammed> {
         [0, 1, 2].map(|k| ((((x[k] - lo[k]) / span[k]) * dims[k] as f64) as usize).min(dims[k] - 1))
     };
     let index = |c: [usize; 3]| (c[2] * dims[1] + c[1]) * dims[0] + c[0];
-    // Linked lists per cell: `head[cell]`, `next[fibre]` (u32::MAX ends).
+    // Linked lists per cell: `head[cell]`, `next[body]` (u32::MAX ends).
     let mut head = vec![u32::MAX; cells];
-    let mut next: Vec<u32> = Vec::with_capacity(p.n);
-    let mut fibres: Vec<Placed> = Vec::with_capacity(p.n);
-    let mut geoms: Vec<FibreGeom> = Vec::with_capacity(p.n);
+    let n = p.n();
+    let mut next: Vec<u32> = Vec::with_capacity(n);
+    let mut bodies: Vec<Placed> = Vec::with_capacity(n);
+    let mut geoms: Vec<FibreGeom> = Vec::with_capacity(n);
     let mut attempts = 0u64;
     let volume = span.x * span.y * span.z;
     let mut filled = 0.0;
-    for _ in 0..p.n {
-        let d = p.diameter.draw(rng);
-        let l = p.length.draw(rng);
+    // What each body draws: its size once, then per candidate its
+    // orientation (a fibre's) and its centre.
+    let fibres = p.fibres.iter().flat_map(|f| (0..f.n).map(move |_| Ok(f)));
+    let spheres = p.spheres.iter().flat_map(|s| (0..s.n).map(move |_| Err(s)));
+    for kind in fibres.chain(spheres) {
+        let (shape, orientation) = match kind {
+            Ok(f) => {
+                let diameter = f.diameter.draw(rng);
+                let length = f.length.draw(rng);
+                (Shape::Fibre { diameter, length }, Some(f.orientation))
+            }
+            Err(s) => {
+                let diameter = s.diameter.draw(rng);
+                (Shape::Sphere { diameter }, None)
+            }
+        };
+        let (d, l) = match shape {
+            Shape::Fibre { diameter, length } => (diameter, length),
+            _ => (shape.diameter(), 0.0),
+        };
         let mut tries = 0;
         loop {
             if tries == p.max_attempts {
                 return Err(Jammed {
-                    placed: fibres.len(),
+                    placed: bodies.len(),
                     volume_fraction: filled / volume,
                 });
             }
             tries += 1;
             attempts += 1;
-            let q = p.orientation.draw(rng);
+            let q = orientation.map_or(DQuat::IDENTITY, |o| o.draw(rng));
+            // A sphere is the capsule of zero length (its axis unused).
             let axis = crate::math::body_x_axis(q);
-            let half = half_extent(axis, d, l);
+            let half = match orientation {
+                Some(_) => half_extent(axis, d, l),
+                None => DVec3::splat(0.5 * d),
+            };
             let room = span - 2.0 * half;
             let u = DVec3::new(rng.uniform(), rng.uniform(), rng.uniform());
             if room.min_element() < 0.0 {
@@ -135,20 +197,15 @@ pub fn place(p: &Placement, rng: &mut Rng) -> Result<Layout, Jammed> {
             if free {
                 let cell = index(c);
                 next.push(head[cell]);
-                head[cell] = fibres.len() as u32;
-                fibres.push(Placed {
-                    x,
-                    q,
-                    diameter: d,
-                    length: l,
-                });
+                head[cell] = bodies.len() as u32;
+                bodies.push(Placed { x, q, shape });
                 geoms.push(g);
-                filled += std::f64::consts::PI * 0.25 * d * d * l;
+                filled += shape.volume();
                 break;
             }
         }
     }
-    Ok(Layout { fibres, attempts })
+    Ok(Layout { bodies, attempts })
 }
 
 /// Whether the capsules of `a` and `b`, grown by `gap`, meet.

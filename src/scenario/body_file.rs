@@ -9,6 +9,15 @@
 //! 0,0.15,0.15,0.0051,1.0,0.0,0.0,0.0,0.0,0.0,0.0,0.0,0.0,0.0,0.01,0.03,pa66
 //! ```
 //!
+//! Every row is a fibre, unless the header ends in an 18th column `shape`
+//! (`fibre` or `sphere`); a sphere's `length` is left empty:
+//!
+//! ```text
+//! id,x,y,z,qw,qx,qy,qz,vx,vy,vz,wbx,wby,wbz,diameter,length,material,shape
+//! 0,0.15,0.15,0.0051,1.0,0.0,0.0,0.0,0.0,0.0,0.0,0.0,0.0,0.0,0.01,0.03,pa66,fibre
+//! 1,0.15,0.17,0.0051,1.0,0.0,0.0,0.0,0.0,0.0,0.0,0.0,0.0,0.0,0.01,,pa66,sphere
+//! ```
+//!
 //! Lines starting with `#` and empty lines are skipped. `material` names a
 //! `[material.NAME]` table of the scenario. Every check is per row (O(N));
 //! an error names the file, the line, the column and the fix.
@@ -25,11 +34,15 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 use std::io::{BufRead, Write};
 use std::path::Path;
 
-/// The header of a body file, in order (ω in the body frame, rad/s).
-pub const COLUMNS: [&str; 17] = [
+/// The header of a body file, in order (ω in the body frame, rad/s), and
+/// the optional 18th column `shape` of a file that holds spheres.
+pub const COLUMNS: [&str; 18] = [
     "id", "x", "y", "z", "qw", "qx", "qy", "qz", "vx", "vy", "vz", "wbx", "wby", "wbz", "diameter",
-    "length", "material",
+    "length", "material", "shape",
 ];
+
+/// The columns of a file of fibres only (without `shape`).
+const FIBRE_COLUMNS: usize = 17;
 
 /// A quaternion this close to unit norm is kept bit for bit (the rotators
 /// keep `‖q‖` within 1e-13); up to [`QUAT_INPUT_TOLERANCE`] it is input
@@ -100,6 +113,8 @@ pub(super) fn read(
     let mut text: Vec<u8> = Vec::with_capacity(512);
     let mut line = 0usize;
     let mut header = false;
+    // 17, or 18 with the `shape` column.
+    let mut columns = FIBRE_COLUMNS;
     loop {
         text.clear();
         let n = r
@@ -125,22 +140,23 @@ pub(super) fn read(
         if !header {
             let row = String::from_utf8_lossy(row);
             let got: Vec<&str> = row.split(',').map(str::trim).collect();
-            if got != COLUMNS {
+            if got != COLUMNS[..FIBRE_COLUMNS] && got != COLUMNS {
                 return Err(Error::BadInput {
                     file: shown.to_string(),
                     line: Some((line, 1)),
                     key: "header".into(),
                     message: format!(
-                        "the first row must be the header `{}`, got `{row}`",
-                        COLUMNS.join(",")
+                        "the first row must be the header `{}` (with `,shape` at the end if the file holds spheres), got `{row}`",
+                        COLUMNS[..FIBRE_COLUMNS].join(",")
                     ),
                 });
             }
+            columns = got.len();
             header = true;
             out.header_line = line;
             continue;
         }
-        let (id, body, state) = parse_row(row, &at, named, materials, &mut by_name)?;
+        let (id, body, state) = parse_row(row, columns, &at, named, materials, &mut by_name)?;
         if id < taken || !seen.insert(id) {
             let why = if id < taken {
                 format!("is the id of [[body]] {id} of the scenario")
@@ -160,7 +176,7 @@ pub(super) fn read(
             "header",
             format!(
                 "the body file is empty; it needs the header `{}` and one row per body",
-                COLUMNS.join(",")
+                COLUMNS[..FIBRE_COLUMNS].join(",")
             ),
         ));
     }
@@ -173,35 +189,53 @@ fn text(f: &[u8]) -> &str {
     std::str::from_utf8(f).map_or("\u{fffd}", str::trim)
 }
 
-/// One row into `(id, body, state)`.
+/// One row of a file of `columns` columns (17, or 18 with `shape`) into
+/// `(id, body, state)`.
 fn parse_row(
     row: &[u8],
+    columns: usize,
     at: &At,
     named: &BTreeMap<String, MaterialSection>,
     materials: &mut super::bodies::Materials,
     by_name: &mut HashMap<String, MaterialId>,
 ) -> Result<(u64, Body, BodyState)> {
-    let mut fields = [""; 17];
+    let header = || COLUMNS[..columns].join(",");
+    let mut fields = [""; 18];
     let mut n = 0;
     for f in row.split(|&b| b == b',') {
-        if n == 17 {
+        if n == columns {
             return Err(at.err(
-                17,
+                columns,
                 format!(
-                    "the row has more than 17 columns; give exactly `{}`",
-                    COLUMNS.join(",")
+                    "the row has more than {columns} columns; give exactly `{}`",
+                    header()
                 ),
             ));
         }
         fields[n] = text(f);
         n += 1;
     }
-    if n < 17 {
+    if n < columns {
         return Err(at.err(
-            n.min(16),
+            n.min(columns - 1),
             format!(
-                "the row has {n} columns, the header 17; give a value for `{}`",
+                "the row has {n} columns, the header {columns}; give a value for `{}`",
                 COLUMNS[n]
+            ),
+        ));
+    }
+    let sphere = match fields[17] {
+        _ if columns == FIBRE_COLUMNS => false,
+        "fibre" => false,
+        "sphere" => true,
+        other => return Err(at.err(17, format!("unknown shape `{other}`; give fibre or sphere"))),
+    };
+    if sphere && !fields[15].is_empty() {
+        return Err(at.err(
+            15,
+            format!(
+                "a sphere has no length, got `{}`; leave the column empty, or give shape fibre",
+                fields[15]
             ),
         ));
     }
@@ -214,6 +248,9 @@ fn parse_row(
     let mut v = [0.0; 15];
     for (k, x) in v.iter_mut().enumerate() {
         let s = fields[k + 1];
+        if sphere && k + 1 == 15 {
+            continue;
+        }
         *x = match s.parse::<f64>() {
             Ok(x) if x.is_finite() => x,
             _ => {
@@ -225,7 +262,11 @@ fn parse_row(
         };
     }
     let (diameter, length) = (v[13], v[14]);
-    for (col, x) in [(14, diameter), (15, length)] {
+    let sizes: &[(usize, f64)] = match sphere {
+        true => &[(14, diameter)],
+        false => &[(14, diameter), (15, length)],
+    };
+    for &(col, x) in sizes {
         if x <= 0.0 {
             return Err(at.err(
                 col,
@@ -249,7 +290,10 @@ fn parse_row(
             ),
         ));
     };
-    let shape = Shape::Fibre { diameter, length };
+    let shape = match sphere {
+        true => Shape::Sphere { diameter },
+        false => Shape::Fibre { diameter, length },
+    };
     let x = DVec3::new(v[0], v[1], v[2]);
     let vel = DVec3::new(v[7], v[8], v[9]);
     let omega_b = DVec3::new(v[10], v[11], v[12]);
@@ -312,16 +356,26 @@ pub fn write(
     let f = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
     let mut w = std::io::BufWriter::with_capacity(1 << 20, f);
     let io = |e| Error::io(path, e);
-    writeln!(w, "{}", COLUMNS.join(",")).map_err(io)?;
+    // The `shape` column only when the file holds spheres: a file of
+    // fibres keeps the 17 columns.
+    let spheres = bodies
+        .iter()
+        .any(|b| matches!(b.shape, Shape::Sphere { .. }));
+    let columns = if spheres { 18 } else { FIBRE_COLUMNS };
+    writeln!(w, "{}", COLUMNS[..columns].join(",")).map_err(io)?;
     let mut buf = ryu::Buffer::new();
     let mut line = String::with_capacity(400);
     for ((id, b), s) in ids.iter().zip(bodies).zip(states) {
-        let Shape::Fibre { diameter, length } = b.shape else {
-            return Err(Error::bad(
-                path.display().to_string(),
-                "shape",
-                "body files hold fibres only",
-            ));
+        let (diameter, length, shape) = match b.shape {
+            Shape::Fibre { diameter, length } => (diameter, Some(length), "fibre"),
+            Shape::Sphere { diameter } => (diameter, None, "sphere"),
+            Shape::Rigid { .. } => {
+                return Err(Error::bad(
+                    path.display().to_string(),
+                    "shape",
+                    "body files hold fibres and spheres only",
+                ))
+            }
         };
         line.clear();
         line.push_str(&id.to_string());
@@ -332,13 +386,21 @@ pub fn write(
                 .chain([q.w, q.x, q.y, q.z])
                 .chain(s.v.to_array())
                 .chain(s.rot.omega_b.to_array())
-                .chain([diameter, length])
+                .chain([diameter])
         {
             line.push(',');
             line.push_str(buf.format(x));
         }
         line.push(',');
+        if let Some(l) = length {
+            line.push_str(buf.format(l));
+        }
+        line.push(',');
         line.push_str(&material_names[b.material as usize]);
+        if spheres {
+            line.push(',');
+            line.push_str(shape);
+        }
         line.push('\n');
         w.write_all(line.as_bytes()).map_err(io)?;
     }

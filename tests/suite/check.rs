@@ -292,7 +292,12 @@ fn check_times_sphere_contacts() {
     close(num(pair, "m* (kg)"), m, "sphere–fibre m*");
     close(
         num(pair, "t_Hertz (s)"),
-        hertz_time(m, 1.0 / (2.0 / 0.01 + 2.0 / 0.01), e_star(5e7, 0.35, 5e7, 0.35), v_s + v_f),
+        hertz_time(
+            m,
+            1.0 / (2.0 / 0.01 + 2.0 / 0.01),
+            e_star(5e7, 0.35, 5e7, 0.35),
+            v_s + v_f,
+        ),
         "sphere–fibre t_Hertz",
     );
     assert_eq!(pair[5].1, "inf", "{pair:?}");

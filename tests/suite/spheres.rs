@@ -165,7 +165,10 @@ fn a_sphere_hits_a_wall_for_the_hertz_time_and_depth() {
         &scene(&format!("dt = {dt:e}\nt_end = {t_end:e}"), "", &[body]),
     );
     let (n, peak) = elastic.contact();
-    eprintln!("wall: {n} steps of {dt:e} s, Hertz {t_c:e} s; peak {:e} m, Hertz {d_max:e} m", peak * d);
+    eprintln!(
+        "wall: {n} steps of {dt:e} s, Hertz {t_c:e} s; peak {:e} m, Hertz {d_max:e} m",
+        peak * d
+    );
     assert_duration(n, dt, t_c);
     assert_peak(peak * d, d_max, STEPS);
     let out = elastic.final_v(0);
@@ -225,7 +228,10 @@ fn two_spheres_collide_head_on_for_the_hertz_time_and_depth() {
         &scene(&format!("dt = {dt:e}\nt_end = {t_end:e}"), "", &bodies()),
     );
     let (n, peak) = elastic.contact();
-    eprintln!("pair: {n} steps of {dt:e} s, Hertz {t_c:e} s; peak {:e} m, Hertz {d_max:e} m", peak * d2);
+    eprintln!(
+        "pair: {n} steps of {dt:e} s, Hertz {t_c:e} s; peak {:e} m, Hertz {d_max:e} m",
+        peak * d2
+    );
     assert_duration(n, dt, t_c);
     assert_peak(peak * d2, d_max, STEPS);
     // The one-dimensional elastic impact: u₁ = ((m₁ − m₂)v₁ + 2m₂v₂)/(m₁ + m₂).
@@ -259,7 +265,10 @@ fn two_spheres_collide_head_on_for_the_hertz_time_and_depth() {
     );
     // Momentum is exchanged, not made.
     let p = m1 * o1 + m2 * o2;
-    assert!((p - (m1 - m2) * v).abs() <= 1e-12 * (m1 + m2) * v, "momentum {p}");
+    assert!(
+        (p - (m1 - m2) * v).abs() <= 1e-12 * (m1 + m2) * v,
+        "momentum {p}"
+    );
 }
 
 /// A sphere (D = 0.008 m) dropped at 0.5 m/s under gravity on a fibre

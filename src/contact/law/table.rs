@@ -278,7 +278,12 @@ mod tests {
     #[test]
     fn a_mixed_bed_has_the_law_of_each_kind_pair() {
         let materials = [material(5e7, 0.35), material(2.1e9, 0.23)];
-        let bodies = [fibre(0.01, 0), sphere(0.01, 0), sphere(0.003, 1), fibre(0.01, 0)];
+        let bodies = [
+            fibre(0.01, 0),
+            sphere(0.01, 0),
+            sphere(0.003, 1),
+            fibre(0.01, 0),
+        ];
         let t = LawTable::new(&bodies, &materials, Some(&WALLS));
         assert_eq!(t.kinds.len(), 3);
         let bits = |l: &HertzLaw| (l.e_star.to_bits(), l.r_star.to_bits());
