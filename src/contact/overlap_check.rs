@@ -60,7 +60,7 @@ pub(crate) fn first_overlap(
     let grid = Grid::new(&geoms);
     // Every pair whose capsules overlap by more than the tolerance goes to
     // the kernels; the first in (i, j) order wins.
-    let found = (0..grid.start.len() - 1)
+    (0..grid.start.len() - 1)
         .into_par_iter()
         .filter_map(|c| {
             let mut pts = vec![];
@@ -84,8 +84,7 @@ pub(crate) fn first_overlap(
             });
             best
         })
-        .min_by(|a, b| (a.0, a.1).cmp(&(b.0, b.1)));
-    found
+        .min_by(|a, b| (a.0, a.1).cmp(&(b.0, b.1)))
 }
 
 /// The deepest overlap of a pair's contact points.

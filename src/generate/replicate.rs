@@ -66,13 +66,13 @@ pub fn replicated(scene: &Scene, times: [usize; 3]) -> Result<Scene> {
     if let Some(i) = scene
         .bodies
         .iter()
-        .position(|b| !matches!(b.shape, Shape::Fibre { .. }))
+        .position(|b| matches!(b.shape, Shape::Rigid { .. }))
     {
         return Err(Error::bad(
             &scene.source,
             "body.shape",
             format!(
-                "{} is not a fibre; body files (what replicate writes) hold fibres only",
+                "{} is a rigid body; body files (what replicate writes) hold fibres and spheres only",
                 scene.name(i)
             ),
         ));

@@ -546,10 +546,8 @@ impl Pass {
                 self.problem(at(k), check::rigid_only(k));
             }
         }
-        if shape == Some("sphere") {
-            if b.contains_key("length") {
-                self.problem(at("length"), check::SPHERE_LENGTH);
-            }
+        if shape == Some("sphere") && b.contains_key("length") {
+            self.problem(at("length"), check::SPHERE_LENGTH);
         }
         if let Some(m) = b.get("material") {
             if ["density", "young", "poisson"]

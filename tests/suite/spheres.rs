@@ -47,8 +47,8 @@ fn sphere(d: f64, x: [f64; 3], v: [f64; 3]) -> String {
     format!("[[body]]\nshape = \"sphere\"\nmaterial = \"m\"\ndiameter = {d}\nposition = {x:?}\nvelocity = {v:?}\n")
 }
 
-fn fibre(x: [f64; 3], axis: [f64; 3]) -> String {
-    format!("[[body]]\nshape = \"fibre\"\nmaterial = \"m\"\ndiameter = 0.01\nlength = 0.025\nposition = {x:?}\naxis = {axis:?}\n")
+fn fibre(x: [f64; 3], axis: [f64; 3], v: [f64; 3]) -> String {
+    format!("[[body]]\nshape = \"fibre\"\nmaterial = \"m\"\ndiameter = 0.01\nlength = 0.025\nposition = {x:?}\naxis = {axis:?}\nvelocity = {v:?}\n")
 }
 
 /// A scene in the box [−0.2, 0.2]² × [0, 0.4] (floor at z = 0).
@@ -290,15 +290,15 @@ fn a_sphere_dropped_on_a_fibre_side_and_face_bounces() {
     for (name, base, top, falling) in [
         (
             "side",
-            fibre([0.0, 0.0, 0.005], [1.0, 0.0, 0.0]),
+            fibre([0.0, 0.0, 0.005], [1.0, 0.0, 0.0], [0.0; 3]),
             0.01,
-            format!("[[body]]\nshape = \"fibre\"\nmaterial = \"m\"\ndiameter = 0.01\nlength = 0.025\nposition = [0.002, 0.0, 0.0151]\naxis = [0.0, 1.0, 0.0]\nvelocity = [0.0, 0.0, -0.5]\n"),
+            fibre([0.002, 0.0, 0.0151], [0.0, 1.0, 0.0], [0.0, 0.0, -0.5]),
         ),
         (
             "face",
-            fibre([0.0, 0.0, 0.012_500_1], [0.0, 0.0, 1.0]),
+            fibre([0.0, 0.0, 0.012_500_1], [0.0, 0.0, 1.0], [0.0; 3]),
             0.025,
-            format!("[[body]]\nshape = \"fibre\"\nmaterial = \"m\"\ndiameter = 0.01\nlength = 0.025\nposition = [0.002, 0.0, 0.0376]\naxis = [0.0, 0.0, 1.0]\nvelocity = [0.0, 0.0, -0.5]\n"),
+            fibre([0.002, 0.0, 0.0376], [0.0, 0.0, 1.0], [0.0, 0.0, -0.5]),
         ),
     ] {
         let s = sphere(ds, [0.002, 0.0, top + 0.5 * ds + 1e-4], [0.0, 0.0, -0.5]);
@@ -315,7 +315,10 @@ fn a_sphere_dropped_on_a_fibre_side_and_face_bounces() {
         let vz = with_sphere.final_v(1)[2];
         assert!(vz > 0.1, "{name}: the sphere leaves at {vz} m/s");
         let live = with_sphere.rows.iter().map(|r| r.0).max().unwrap();
-        assert!(live >= 2, "{name}: the floor and the sphere on the fibre ({live})");
+        assert!(
+            live >= 2,
+            "{name}: the floor and the sphere on the fibre ({live})"
+        );
         let worst = |r: &Run| r.rows.iter().map(|r| r.2.abs()).fold(0.0, f64::max);
         let (sphere_err, fibre_err) = (worst(&with_sphere), worst(&with_fibre));
         eprintln!("{name}: budget error {sphere_err:e} % (a fibre dropped: {fibre_err:e} %)");
