@@ -604,3 +604,50 @@ fn a_dense_scene_writes_the_same_vtk_bytes_whatever_the_threads_and_resume() {
     let touching: f64 = cell(&last, "contacts").iter().sum();
     assert!(touching > 0.0, "the packed scene has live contacts");
 }
+
+/// A sphere in a frame (docs/guide.md): a zero-length line at its centre
+/// (both points the trajectory's centre, rounded to f32), `length` 0, its
+/// diameter, and its live contact counted on it and on the fibre it hits.
+#[test]
+fn a_sphere_is_a_zero_length_line_at_its_centre() {
+    let dir = tempfile::tempdir().unwrap();
+    // A sphere (D = 8 mm) 10 µm above a fibre's side at 0.5 m/s, no
+    // gravity: they touch from step 20 for ~2e-4 s.
+    let text = "[simulation]\ndt = 1e-6\nt_end = 3e-4\n[box]\nmin = [-0.1, -0.1, 0.0]\nmax = [0.1, 0.1, 0.1]\nyoung = 5e7\npoisson = 0.23\n[material.f]\ndensity = 1100.0\nyoung = 5e7\npoisson = 0.35\n[[body]]\nshape = \"fibre\"\nmaterial = \"f\"\ndiameter = 0.01\nlength = 0.025\nposition = [0.0, 0.0, 0.02]\naxis = [1.0, 0.0, 0.0]\n[[body]]\nshape = \"sphere\"\nmaterial = \"f\"\ndiameter = 0.008\nposition = [0.002, 0.0, 0.02901]\nvelocity = [0.0, 0.0, -0.5]\n";
+    let scene = dir.path().join("s.toml");
+    std::fs::write(&scene, text).unwrap();
+    let out = dir.path().join("o");
+    ok(fibresim(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--vtk-every",
+        "100",
+        "--trajectory-every",
+        "100",
+        "-q",
+        "--out",
+        out.to_str().unwrap(),
+    ]));
+    let traj = trajectory(&out);
+    let frame = read_vtp(&out.join("vtk").join("fibres_100.vtp")).unwrap();
+    assert_eq!(cell(&frame, "length"), vec![0.025f32 as f64, 0.0]);
+    assert_eq!(
+        cell(&frame, "diameter"),
+        vec![0.01f32 as f64, 0.008f32 as f64]
+    );
+    assert_eq!(
+        cell(&frame, "contacts"),
+        vec![1.0, 1.0],
+        "touching at step 100"
+    );
+    let p = frame.points.to_f64();
+    let centre = &traj[&(100, 1)][..3];
+    for end in [&p[6..9], &p[9..12]] {
+        for k in 0..3 {
+            assert_eq!(
+                end[k], centre[k] as f32 as f64,
+                "sphere end {end:?}, centre {centre:?}"
+            );
+        }
+    }
+}
