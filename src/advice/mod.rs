@@ -25,6 +25,13 @@
 //! translational estimate for test case 1's fibre. Both bounds err on the
 //! safe side.
 //!
+//! **Spheres.** Every normal of a sphere passes through its centre, so its
+//! effective mass is its mass; each pair is timed with the Hertz law the
+//! contact stage uses for its kinds (`contact/law/table.rs`: sphere–wall,
+//! sphere–sphere, sphere–fibre), its Rayleigh time is that of its radius, and
+//! it has no tilt mode; a fibre's face resting on a sphere rocks with the lever
+//! `ρ = R_s`.
+//!
 //! **Bodies with a prescribed torque** other than zero have no energy bound
 //! (the torque does work), so without `--impact-speed` their contacts are left out of the
 //! pairs and the advice covers the contacts of the other bodies (and the
