@@ -25,6 +25,7 @@
 
 use super::broad::NeighbourList;
 use super::fibre_fibre::PairMemory;
+use super::history::{recall, sorted, ContactKey, Entry, History};
 use super::law::{CandidateLaw, Laws, PointLoad, Record, Side, Wrench};
 use super::shape::{collider, ColliderKind};
 use super::stage::ContactStats;
@@ -117,14 +118,16 @@ struct Block {
     hits: Vec<(u8, u16)>,
     points: Vec<Point>,
     dissipative: Vec<Wrench>,
+    /// The touching contacts' records (a law that keeps them), in order.
+    records: Vec<Entry>,
     stats: ContactStats,
     counters: KernelCounters,
     /// `n + 1` once block `n` of the list is computed here (0: none yet;
     /// set by [`compute_block`], reset per list by [`Sums::in_order`]).
     computed: usize,
-    /// The largest lengths of `hits`, `points`, `dissipative` in this
-    /// step's blocks (what [`Block::trim`] keeps).
-    high: [usize; 3],
+    /// The largest lengths of `hits`, `points`, `dissipative`, `records`
+    /// in this step's blocks (what [`Block::trim`] keeps).
+    high: [usize; 4],
 }
 
 /// A ring of block slots (each locked by the thread computing or adding
@@ -226,6 +229,8 @@ trait Sink {
     fn point(&mut self, load: &PointLoad, overlap: f64, a: (usize, f64), b: Option<(usize, f64)>);
     /// Candidate `k` of the block touched: its points are in.
     fn touched(&mut self, k: usize);
+    /// A touching contact's record after its computation.
+    fn keep(&mut self, entry: Entry);
 }
 
 impl Sink for Block {
@@ -258,18 +263,29 @@ impl Sink for Block {
         self.stats.touching += 1;
         self.hits.push((candidate(k), point(self.points.len())));
     }
+
+    #[inline(always)]
+    fn keep(&mut self, entry: Entry) {
+        self.records.push(entry);
+    }
 }
 
 impl Block {
     /// Ready for the next block (its use noted for [`Block::trim`]).
     fn clear(&mut self) {
-        let lens = [self.hits.len(), self.points.len(), self.dissipative.len()];
+        let lens = [
+            self.hits.len(),
+            self.points.len(),
+            self.dissipative.len(),
+            self.records.len(),
+        ];
         for (h, l) in self.high.iter_mut().zip(lens) {
             *h = (*h).max(l);
         }
         self.hits.clear();
         self.points.clear();
         self.dissipative.clear();
+        self.records.clear();
         self.stats = ContactStats::default();
         self.counters = KernelCounters::default();
     }
@@ -277,10 +293,11 @@ impl Block {
     /// At the end of a step: release what the step's blocks did not use.
     fn trim(&mut self) {
         self.clear();
-        let [h, p, d] = std::mem::take(&mut self.high);
+        let [h, p, d, r] = std::mem::take(&mut self.high);
         trim(&mut self.hits, h);
         trim(&mut self.points, p);
         trim(&mut self.dissipative, d);
+        trim(&mut self.records, r);
     }
 
     /// Each hit's candidate (index in the block) and the range of its
@@ -348,6 +365,13 @@ trait Candidates<'l>: Sync {
 
     /// Candidate `c`'s body A and body B (none for a wall).
     fn bodies(&self, c: &Self::Candidate) -> (usize, Option<usize>);
+
+    /// The identity of point `p`, the `s`-th of touching candidate `c`
+    /// (`contact/history.rs`).
+    fn key(&self, c: &Self::Candidate, s: usize, p: &ContactPoint) -> ContactKey;
+
+    /// The records of the last computation of this list (sorted by key).
+    fn recorded(&self) -> &[Entry];
 }
 
 /// What both lists read: the bodies' geometry records and collider kinds,
@@ -382,10 +406,12 @@ impl<'l> Scene<'_, 'l> {
     }
 }
 
-/// The wall candidates `(body, wall)` of a box.
+/// The wall candidates `(body, wall)` of a box, and their contacts'
+/// records of the last computation.
 struct WallList<'a, 'l> {
     scene: Scene<'a, 'l>,
     walls: &'a [Wall],
+    recorded: &'a [Entry],
 }
 
 impl<'l> Candidates<'l> for WallList<'_, 'l> {
@@ -419,6 +445,25 @@ impl<'l> Candidates<'l> for WallList<'_, 'l> {
     fn bodies(&self, &(i, _): &(u32, u32)) -> (usize, Option<usize>) {
         (i as usize, None)
     }
+
+    /// A fibre's end (0: the one at `−axis`, 1: at `+axis`), a sphere's 0.
+    #[inline(always)]
+    fn key(&self, &(i, w): &(u32, u32), _: usize, p: &ContactPoint) -> ContactKey {
+        let g = &self.scene.geoms[i as usize];
+        let end = match self.scene.kinds[i as usize] {
+            ColliderKind::Fibre => u8::from((p.point - g.centre).dot(g.axis) > 0.0),
+            ColliderKind::Sphere => 0,
+        };
+        ContactKey {
+            a: i,
+            b: w,
+            slot: end,
+        }
+    }
+
+    fn recorded(&self) -> &[Entry] {
+        self.recorded
+    }
 }
 
 /// The body pair candidates `(i, j)`, with their memories, whose
@@ -428,6 +473,8 @@ struct PairList<'a, 'l, K> {
     /// Each body's motion bound since the last computation.
     motion: &'a [f32],
     kernel: &'a K,
+    /// The contacts' records of the last computation.
+    recorded: &'a [Entry],
 }
 
 impl<'l, K: PairKernel> Candidates<'l> for PairList<'_, 'l, K> {
@@ -462,6 +509,20 @@ impl<'l, K: PairKernel> Candidates<'l> for PairList<'_, 'l, K> {
     fn bodies(&self, &(a, b): &(u32, u32)) -> (usize, Option<usize>) {
         (a as usize, Some(b as usize))
     }
+
+    /// The point's rank in the kernel's output.
+    #[inline(always)]
+    fn key(&self, &(a, b): &(u32, u32), s: usize, _: &ContactPoint) -> ContactKey {
+        ContactKey {
+            a,
+            b,
+            slot: s as u8,
+        }
+    }
+
+    fn recorded(&self) -> &[Entry] {
+        self.recorded
+    }
 }
 
 /// The one loop over candidates: each of `candidates` (with its
@@ -482,10 +543,19 @@ fn each_candidate<'l, C: Candidates<'l>>(
         list.eval(c, m, buf, counters);
         if !buf.is_empty() {
             let t = list.touching(c);
-            for p in buf.iter() {
-                // (The contact's history record: none yet.)
-                let load = t.law.load(p, &mut Record);
-                sink.point(&load, p.overlap, t.a, t.b);
+            if t.law.keeps_history() {
+                for (s, p) in buf.iter().enumerate() {
+                    let key = list.key(c, s, p);
+                    let mut record = recall(list.recorded(), &key);
+                    let load = t.law.load(p, &mut record);
+                    sink.point(&load, p.overlap, t.a, t.b);
+                    sink.keep((key, record));
+                }
+            } else {
+                for p in buf.iter() {
+                    let load = t.law.load(p, &mut Record::default());
+                    sink.point(&load, p.overlap, t.a, t.b);
+                }
             }
             sink.touched(k);
         }
@@ -546,6 +616,8 @@ struct Sums<'a> {
     dissipative: Option<(&'a mut [DVec3], &'a mut [DVec3])>,
     stats: ContactStats,
     counters: &'a mut KernelCounters,
+    /// The contacts' records, in list order (a law that keeps them).
+    kept: Vec<Entry>,
 }
 
 /// One worker's sink: each point's loads added to the bodies at once, its
@@ -585,6 +657,11 @@ impl Sink for Sums<'_> {
     #[inline(always)]
     fn touched(&mut self, _: usize) {
         self.stats.touching += 1;
+    }
+
+    #[inline(always)]
+    fn keep(&mut self, entry: Entry) {
+        self.kept.push(entry);
     }
 }
 
@@ -628,6 +705,7 @@ impl Sums<'_> {
         for p in &block.points {
             self.stats.elastic += p.energy;
         }
+        self.kept.extend_from_slice(&block.records);
     }
 
     /// Compute `candidates` of `list` (with their `memory`, one each) on
@@ -774,8 +852,10 @@ impl Blocks {
     /// `geoms` of collider `kinds` (their pairs' memories spending the bodies' `motion`
     /// bounds), the `walls` and the `laws`, on `workers` threads (the
     /// same bits for any number); with `dissipative`, the laws'
-    /// non-conservative loads per body too. With `keep_hits` the rings
-    /// hold the whole list, whose hits stay for [`Blocks::for_each_hit`].
+    /// non-conservative loads per body too; with `history` (a law that
+    /// keeps records), each contact's record read from it and the new
+    /// ones put in its place. With `keep_hits` the rings hold the whole
+    /// list, whose hits stay for [`Blocks::for_each_hit`].
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn compute<K: PairKernel>(
         &mut self,
@@ -786,9 +866,16 @@ impl Blocks {
         (force, torque): (&mut [DVec3], &mut [DVec3]),
         counters: &mut KernelCounters,
         dissipative: Option<Dissipative>,
+        history: Option<&mut History>,
         keep_hits: bool,
         workers: usize,
     ) -> ContactStats {
+        // The last computation's records; the touching contacts' new ones
+        // replace them (a contact not touching now loses its record).
+        let recorded = history.map(|h| {
+            let old = std::mem::take(h);
+            (h, old)
+        });
         force.fill(DVec3::ZERO);
         torque.fill(DVec3::ZERO);
         let dissipative = dissipative.map(|(f, t)| {
@@ -834,6 +921,11 @@ impl Blocks {
             dissipative,
             stats: ContactStats::default(),
             counters,
+            kept: vec![],
+        };
+        let (old_walls, old_pairs) = match &recorded {
+            Some((_, old)) => (&old.walls[..], &old.pairs[..]),
+            None => (&[][..], &[][..]),
         };
         let scene = Scene { geoms, kinds, laws };
         // One worker adds each point's loads as it makes them; blocks are
@@ -841,7 +933,11 @@ impl Blocks {
         let direct = workers == 1 && !keep_hits;
         // Walls first, then pairs: each body's order.
         if !list.walls.is_empty() {
-            let walls = WallList { scene, walls };
+            let walls = WallList {
+                scene,
+                walls,
+                recorded: old_walls,
+            };
             let memory = &mut vec![(); list.walls.len()];
             let buf = &mut self.buf;
             if direct {
@@ -851,12 +947,14 @@ impl Blocks {
                 sums.in_order(&walls, &list.walls, memory, ring, size, workers, buf);
             }
         }
+        let kept_walls = std::mem::take(&mut sums.kept);
         if !list.pairs.is_empty() {
             kernel.computation();
             let pairs = PairList {
                 scene,
                 motion,
                 kernel,
+                recorded: old_pairs,
             };
             let (memory, buf) = (&mut list.memory, &mut self.buf);
             if direct {
@@ -865,6 +963,10 @@ impl Blocks {
                 let ring = &mut self.pair_ring;
                 sums.in_order(&pairs, &list.pairs, memory, ring, size, workers, buf);
             }
+        }
+        if let Some((h, _)) = recorded {
+            h.walls = sorted(kept_walls);
+            h.pairs = sorted(sums.kept);
         }
         sums.stats
     }
@@ -1026,7 +1128,7 @@ mod tests {
                 let law = laws.pair(side(a), side(b));
                 stats.touching += 1;
                 for p in &ps {
-                    let w = law.load(p, &mut Record);
+                    let w = law.load(p, &mut Record::default());
                     force[a] += w.total.force;
                     torque[a] += w.total.torque_a;
                     force[b] -= w.total.force;
@@ -1086,6 +1188,18 @@ mod tests {
         fn bodies(&self, c: &u32) -> (usize, Option<usize>) {
             bodies(c)
         }
+
+        fn key(&self, &c: &u32, s: usize, _: &ContactPoint) -> ContactKey {
+            ContactKey {
+                a: c,
+                b: 0,
+                slot: s as u8,
+            }
+        }
+
+        fn recorded(&self) -> &[Entry] {
+            &[]
+        }
     }
 
     /// Forces, torques and statistics of `n` synthetic candidates added by
@@ -1113,6 +1227,7 @@ mod tests {
                 dissipative: None,
                 stats: ContactStats::default(),
                 counters: &mut counters,
+                kept: vec![],
             };
             let list = Synthetic {
                 laws: &laws,

@@ -29,6 +29,7 @@ pub mod fibre_fibre;
 pub mod fibre_wall;
 pub mod hertz;
 mod hertz_spheres;
+pub(crate) mod history;
 pub(crate) mod law;
 pub(crate) mod ledger;
 pub(crate) mod memory;

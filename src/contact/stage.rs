@@ -13,6 +13,7 @@ use super::blocks::{Blocks, Computed, Dissipative};
 use super::broad::NeighbourList;
 use super::damping::Restitution;
 use super::fibre_fibre::{dome_sag, PairMemory};
+use super::history::History;
 use super::law::{LawTable, Laws};
 use super::ledger::WorkLedger;
 use super::memory::{entries, Entry};
@@ -52,6 +53,8 @@ pub struct ContactStage {
     ledger: Option<WorkLedger>,
     /// The candidate loop's buffers.
     blocks: Blocks,
+    /// The touching contacts' records, if the law keeps them (friction).
+    history: Option<History>,
     /// Each body's motion bound since the last computation (m, rounded
     /// up), spent by its pairs' memories (`fibre_fibre/coherence.rs`).
     motion: Vec<f32>,
@@ -110,11 +113,26 @@ impl ContactStage {
             counters: KernelCounters::default(),
             ledger: None,
             blocks: Blocks::default(),
+            history: None,
             motion: vec![],
             #[cfg(feature = "mpi")]
             gathered: None,
             stats: ContactStats::default(),
         }
+    }
+
+    /// The stage with Coulomb friction `f` (`None`: frictionless), its
+    /// contacts' springs advanced by `dt` per computation (before
+    /// [`ContactStage::with_damping`], which makes the ledger of every
+    /// non-conservative load).
+    pub fn with_friction(
+        mut self,
+        f: Option<crate::contact::tangential::Friction>,
+        dt: f64,
+    ) -> Self {
+        self.laws = self.laws.with_friction(f, dt);
+        self.history = self.laws.keeps_history().then(History::default);
+        self
     }
 
     /// The stage with normal damping of restitution `e` (`None`: elastic)
@@ -240,6 +258,7 @@ impl ContactStage {
             (force, torque),
             &mut self.counters,
             self.ledger.as_mut().map(WorkLedger::loads),
+            self.history.as_mut(),
             false,
             workers,
         );
@@ -312,6 +331,7 @@ fn candidate_loop(
     loads: (&mut [DVec3], &mut [DVec3]),
     counters: &mut KernelCounters,
     dissipative: Option<Dissipative>,
+    history: Option<&mut History>,
     keep_hits: bool,
     workers: usize,
 ) -> ContactStats {
@@ -326,6 +346,7 @@ fn candidate_loop(
             loads,
             counters,
             dissipative,
+            history,
             keep_hits,
             workers,
         );
@@ -338,6 +359,7 @@ fn candidate_loop(
         loads,
         counters,
         dissipative,
+        history,
         keep_hits,
         workers,
     )
@@ -443,6 +465,7 @@ impl ContactStage {
             &laws,
             (force, torque),
             &mut self.counters,
+            None,
             None,
             true,
             workers(bodies.len()),
@@ -581,7 +604,7 @@ mod tests {
             }
             stats.touching += 1;
             for c in points {
-                let l = law.load(c, &mut Record);
+                let l = law.load(c, &mut Record::default());
                 force[a] += l.total.force;
                 torque[a] += l.total.torque_a;
                 let d = l.dissipative.unwrap_or_default();

@@ -26,6 +26,15 @@
 
 use glam::DVec3;
 
+/// A scene's Coulomb coefficients: body–body and body–wall.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Friction {
+    /// μ of body–body contacts.
+    pub body: f64,
+    /// μ of body–wall contacts.
+    pub wall: f64,
+}
+
 /// The tangential constants of a pair of materials.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tangential {

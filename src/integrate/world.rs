@@ -85,6 +85,7 @@ impl<'s> World<'s> {
             step: 0,
             contacts: scene.needs_contacts().then(|| {
                 ContactStage::new(&scene.bodies, &scene.materials, scene.walls.as_ref())
+                    .with_friction(scene.friction, scene.sim.dt())
                     .with_damping(scene.damping, n, scene.sim.dt(), scene.gravity)
             }),
             ledger: Ledger::default(),

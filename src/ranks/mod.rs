@@ -59,6 +59,13 @@ pub struct Job<'a> {
 
 /// What the decomposition does not cover yet, refused with its fix.
 fn refuse(scene: &Scene) -> Result<()> {
+    if scene.friction.is_some() {
+        return Err(Error::bad(
+            &scene.source,
+            "friction",
+            "frictional scenes ([contact] friction or wall_friction > 0) are not decomposed yet; run them without mpirun",
+        ));
+    }
     if scene.damping.is_some() {
         return Err(Error::bad(
             &scene.source,

@@ -45,6 +45,15 @@ pub fn scene_from_checkpoint(c: &Checkpoint, t_end: Option<f64>) -> Result<Scene
             ),
         ));
     }
+    // A contact's tangential spring is not kept in checkpoints yet: a
+    // resumed frictional run would start every spring from zero.
+    if scene.friction.is_some() {
+        return Err(Error::bad(
+            &c.scenario_source,
+            "friction",
+            "a frictional scene ([contact] friction or wall_friction > 0) cannot be resumed yet: checkpoints do not keep its contacts' tangential springs; rerun from the start",
+        ));
+    }
     // The restitution the run used (`settle --restitution` may have set it
     // over the scenario's), as δt and the rotator are the run's.
     if let Some(part) = &c.damping {

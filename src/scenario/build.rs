@@ -272,9 +272,14 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
         Some(c) => restitution(&cx, c)?,
         None => None,
     };
+    let friction = match &raw.contact {
+        Some(c) => friction(&cx, c)?,
+        None => None,
+    };
 
     Ok(Scene {
         damping,
+        friction,
         output: super::output::build_output(src, raw.output.as_ref())?,
         guards,
         source: src.to_string(),
@@ -349,4 +354,21 @@ fn restitution(
         None => fibre,
     };
     Ok((fibre < 1.0 || wall < 1.0).then_some(crate::contact::damping::Restitution { fibre, wall }))
+}
+
+/// The checked Coulomb coefficients of `[contact]`; `None` when both are 0
+/// (frictionless), so such a scene runs exactly as one without the keys.
+fn friction(
+    cx: &Ctx,
+    c: &super::file::ContactSection,
+) -> Result<Option<crate::contact::tangential::Friction>> {
+    let body = match c.friction {
+        Some(mu) => cx.non_negative("contact.friction", mu)?,
+        None => 0.0,
+    };
+    let wall = match c.wall_friction {
+        Some(mu) => cx.non_negative("contact.wall_friction", mu)?,
+        None => body,
+    };
+    Ok((body > 0.0 || wall > 0.0).then_some(crate::contact::tangential::Friction { body, wall }))
 }

@@ -24,6 +24,16 @@ pub(super) fn not_positive(v: f64) -> Option<String> {
     })
 }
 
+/// Why `v` is not a finite number ≥ 0, if it is not.
+pub(super) fn not_non_negative(v: f64) -> Option<String> {
+    (!(v.is_finite() && v >= 0.0)).then(|| {
+        format!(
+            "must be a finite number >= 0, got {}; give e.g. 0.3 (0 is frictionless)",
+            short(v)
+        )
+    })
+}
+
 /// Why `v` is not a Poisson ratio, if it is not.
 pub(super) fn not_poisson(v: f64) -> Option<String> {
     (!(v.is_finite() && v > -1.0 && v < 0.5)).then(|| {
@@ -156,6 +166,13 @@ impl Ctx<'_> {
 
     pub(super) fn positive(&self, key: &str, v: f64) -> Result<f64> {
         match not_positive(v) {
+            None => Ok(v),
+            Some(m) => Err(self.err(key, m)),
+        }
+    }
+
+    pub(super) fn non_negative(&self, key: &str, v: f64) -> Result<f64> {
+        match not_non_negative(v) {
             None => Ok(v),
             Some(m) => Err(self.err(key, m)),
         }

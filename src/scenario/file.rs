@@ -78,6 +78,10 @@ pub struct ContactSection {
     pub restitution: Option<f64>,
     /// Normal restitution of fibre–wall contacts (default: `restitution`).
     pub wall_restitution: Option<f64>,
+    /// Coulomb coefficient of body–body contacts (default 0: frictionless).
+    pub friction: Option<f64>,
+    /// Coulomb coefficient of body–wall contacts (default: `friction`).
+    pub wall_friction: Option<f64>,
 }
 
 /// `[simulation]`.

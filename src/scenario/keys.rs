@@ -83,7 +83,7 @@ pub const TABLES: &[TableSpec] = &[
         name: "contact",
         form: Form::Single,
         required: false,
-        meaning: "normal contact damping set by a restitution coefficient; without it, contacts are elastic",
+        meaning: "normal contact damping set by a restitution coefficient, and Coulomb friction; without it, contacts are elastic and frictionless",
     },
     TableSpec {
         name: "reference",
@@ -106,6 +106,8 @@ pub enum Kind {
     Positive,
     /// A finite number.
     Finite,
+    /// A finite number ≥ 0.
+    NonNegative,
     /// A finite number other than 0.
     NonZero,
     /// Poisson's ratio, in (−1, 0.5).
@@ -138,6 +140,7 @@ impl Kind {
         match self {
             Kind::Positive => "> 0".into(),
             Kind::Finite => "finite".into(),
+            Kind::NonNegative => "≥ 0".into(),
             Kind::NonZero => "≠ 0".into(),
             Kind::Poisson => "in (−1, 0.5)".into(),
             Kind::Count => "integer ≥ 1".into(),
@@ -366,6 +369,8 @@ pub const KEYS: &[Key] = &[
     // [contact]
     Key { table: "contact", name: "restitution", kind: Kind::Positive, unit: "–", need: Need::Optional("1 (elastic)"), meaning: "normal restitution e of body–body contacts, in (0, 1]: Tsuji-type Hertzian damping (docs/physics.md), e independent of the impact speed", example: "0.3", typical: None },
     Key { table: "contact", name: "wall_restitution", kind: Kind::Positive, unit: "–", need: Need::Optional("`restitution`"), meaning: "normal restitution of body–wall contacts, in (0, 1]", example: "0.3", typical: None },
+    Key { table: "contact", name: "friction", kind: Kind::NonNegative, unit: "–", need: Need::Optional("0 (frictionless)"), meaning: "Coulomb coefficient μ of body–body contacts: a tangential spring (Mindlin's stiffness) capped at μ times the normal force (docs/contacts.md, \"Friction\")", example: "0.3", typical: None },
+    Key { table: "contact", name: "wall_friction", kind: Kind::NonNegative, unit: "–", need: Need::Optional("`friction`"), meaning: "Coulomb coefficient μ of body–wall contacts", example: "0.3", typical: None },
     // [guards]
     Key { table: "guards", name: "energy_error_pct", kind: Kind::Positive, unit: "%", need: Need::Optional("10"), meaning: "stop when the full-budget energy error (Eq. 65 with elastic energy) exceeds this; scenes without a prescribed torque", example: "10.0", typical: None },
     Key { table: "guards", name: "overlap_ratio", kind: Kind::Positive, unit: "–", need: Need::Optional("0.2"), meaning: "stop when a contact overlap exceeds this fraction of the smaller diameter of the pair", example: "0.2", typical: None },

@@ -419,13 +419,14 @@ impl Pass {
         };
         let v = item.as_value();
         let problem: Option<String> = match k.kind {
-            Kind::Positive | Kind::Finite | Kind::NonZero | Kind::Poisson => {
+            Kind::Positive | Kind::Finite | Kind::NonNegative | Kind::NonZero | Kind::Poisson => {
                 match v.and_then(number) {
                     None => Some(wrong("a number")),
                     Some(x) => {
                         let bad = match k.kind {
                             Kind::Positive => check::not_positive(x),
                             Kind::Poisson => check::not_poisson(x),
+                            Kind::NonNegative => check::not_non_negative(x),
                             Kind::Finite => (!x.is_finite())
                                 .then(|| format!("must be a finite number, got {}", short(x))),
                             _ => (!(x.is_finite() && x != 0.0)).then(|| {

@@ -65,6 +65,8 @@ pub struct Scene {
     pub guards: Guards,
     /// Normal dissipation (`[contact]`); `None`: elastic contacts.
     pub damping: Option<crate::contact::damping::Restitution>,
+    /// Coulomb friction (`[contact] friction`); `None`: frictionless.
+    pub friction: Option<crate::contact::tangential::Friction>,
     /// Optional outputs (`[output]`, overridden by flags).
     pub output: super::OutputRequest,
 }

@@ -20,6 +20,7 @@ mod damping;
 mod defaults;
 mod first_hour;
 mod free_flight;
+mod friction;
 mod guards;
 mod habits;
 mod integrity;

@@ -99,7 +99,7 @@ fn mixed_bed_output_bytes_do_not_depend_on_the_thread_count() {
 
 /// Runs `text` with 1, 2, 4 and `RAYON_NUM_THREADS=3` threads, asserts the
 /// same bytes, and returns the one-thread `energy.csv`.
-fn same_bytes_with_any_thread_count(text: &str) -> String {
+pub(crate) fn same_bytes_with_any_thread_count(text: &str) -> String {
     let dir = tempfile::tempdir().unwrap();
     let scene = dir.path().join("packed.toml");
     std::fs::write(&scene, text).unwrap();

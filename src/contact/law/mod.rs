@@ -12,11 +12,12 @@
 //!   an orientation-dependent weight ([`ContactPoint`]);
 //! - **normal, non-conservative**: the restitution damping `w η(δ) δ̇`
 //!   (`damping.rs`), where the scene declares a restitution;
-//! - **tangential**: none, the law is frictionless. Its slot is marked in
-//!   [`CandidateLaw::load`]: a tangential law reads the relative velocity
-//!   at the point (made there from both bodies' velocities and world
-//!   angular velocities) and the contact's history [`Record`], and adds
-//!   its force to the total and to the non-conservative part.
+//! - **tangential**: where the scene declares friction, Coulomb friction
+//!   with a tangential spring (`tangential.rs`): from the relative
+//!   velocity at the point, the normal force (elastic and damping) and
+//!   the contact's history [`Record`], a force at the point added to the
+//!   total and to the non-conservative part (its lever arms give the
+//!   torques).
 //!
 //! The non-conservative part of each point's wrench is handed back apart
 //! ([`PointLoad::dissipative`]): the ledger sums it per body and accounts
@@ -26,6 +27,7 @@ mod table;
 
 pub(crate) use table::{body_law, body_wall_law, LawTable};
 
+use super::tangential::{step_spring, Tangential};
 use super::{ContactPoint, HertzLaw};
 use crate::body::{Body, BodyState};
 use glam::DVec3;
@@ -77,10 +79,13 @@ pub(crate) struct PointLoad {
 }
 
 /// What the law keeps of one contact point between steps, carried by the
-/// contact's identity (its pair and its feature). The frictionless law
-/// keeps nothing: zero bytes. (Friction's tangential spring goes here.)
+/// contact's identity (`contact/history.rs`): friction's tangential
+/// spring. A frictionless scene keeps none.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub(crate) struct Record;
+pub(crate) struct Record {
+    /// The tangential spring ξ, m (`tangential.rs`).
+    pub xi: DVec3,
+}
 
 /// One side of a candidate: a body by index, with its centre (a wall
 /// side has none: it does not move).
@@ -152,6 +157,7 @@ impl<'a> Laws<'a> {
             alpha: self.table.alpha_wall(),
             root_mk: (motion.reduced_mass(&a, None) * hertz.stiffness()).sqrt(),
             motion,
+            tangential: self.table.tangential_wall(a.index),
         });
         CandidateLaw {
             hertz,
@@ -169,6 +175,7 @@ impl<'a> Laws<'a> {
             alpha: self.table.alpha_pair(),
             root_mk: (motion.reduced_mass(&a, Some(&b)) * hertz.stiffness()).sqrt(),
             motion,
+            tangential: self.table.tangential_pair(a.index, b.index),
         });
         CandidateLaw {
             hertz,
@@ -181,13 +188,15 @@ impl<'a> Laws<'a> {
 
 /// The non-conservative parts of a candidate's law, with the motion they
 /// read: the restitution damping `η(δ) = α √(m* k) δ^{1/4}`
-/// (`damping.rs`). (A tangential law's constants go here too.)
+/// (`damping.rs`), and the friction law with its time step, if the
+/// candidate's contacts are frictional.
 #[derive(Clone, Copy)]
 struct NonConservative<'a> {
     motion: Motion<'a>,
     alpha: f64,
     /// `√(m* k)`, `k` the Hertz stiffness.
     root_mk: f64,
+    tangential: Option<(Tangential, f64)>,
 }
 
 /// The law of one candidate (its kinds' constants, its two sides).
@@ -200,15 +209,21 @@ pub(crate) struct CandidateLaw<'a> {
 }
 
 impl CandidateLaw<'_> {
-    /// The loads of contact point `c` of this candidate, with the
-    /// contact's history `record` (read and written by the parts that keep
-    /// one; none yet).
+    /// Whether the candidate's contacts keep a [`Record`] (they are
+    /// frictional).
     #[inline(always)]
-    pub(crate) fn load(&self, c: &ContactPoint, _record: &mut Record) -> PointLoad {
+    pub(crate) fn keeps_history(&self) -> bool {
+        self.nc.is_some_and(|nc| nc.tangential.is_some())
+    }
+
+    /// The loads of contact point `c` of this candidate, with the
+    /// contact's history `record` (read and written by friction; left as
+    /// it is by a frictionless law).
+    #[inline(always)]
+    pub(crate) fn load(&self, c: &ContactPoint, record: &mut Record) -> PointLoad {
         let (ca, cb) = (self.a.centre, self.b.map(|b| b.centre));
         let u = self.hertz.energy(c.overlap);
         let mut f_n = c.weight * self.hertz.force(c.overlap);
-        let mut dissipative = None;
         if let Some(nc) = &self.nc {
             // The relative velocity of A's and B's material points at the
             // contact (a wall stands still).
@@ -221,16 +236,41 @@ impl CandidateLaw<'_> {
             let rate = -c.normal.dot(rel);
             let f_d = c.weight * nc.alpha * nc.root_mk * c.overlap.sqrt().sqrt() * rate;
             f_n += f_d;
-            // Tangential: none (frictionless). A tangential law goes here:
-            // from the part of `rel` across `c.normal`, the normal force
-            // `f_n` and the contact's `_record`, a tangential force added
-            // to the total and to the non-conservative wrench.
-            dissipative = Some(Wrench::at(f_d * c.normal, c.point, None, ca, cb));
+            let Some((t, dt)) = &nc.tangential else {
+                return PointLoad {
+                    total: Wrench::at(f_n * c.normal, c.point, Some(-u * c.weight_grad), ca, cb),
+                    elastic: c.weight * u,
+                    dissipative: Some(Wrench::at(f_d * c.normal, c.point, None, ca, cb)),
+                };
+            };
+            // Tangential: the spring of `tangential.rs`, weighted as the
+            // normal force is (a blend's points share one contact's
+            // stiffness); η_t = 2 η_n √(G*/E*) with η_n the damping's
+            // `w α √(m* k) δ^{1/4}`; the cap μ max(F_n, 0) with F_n the
+            // point's whole normal force, elastic and damping.
+            let k_t = c.weight * t.stiffness(self.hertz.r_star, c.overlap);
+            let eta_n = c.weight * nc.alpha * nc.root_mk * c.overlap.sqrt().sqrt();
+            let eta_t = 2.0 * eta_n * (t.g_star / self.hertz.e_star).sqrt();
+            let cap = t.mu * f_n.max(0.0);
+            let f_t = if k_t > 0.0 {
+                // (A split contact's normal is not unit: its plane's is.)
+                let n = c.normal.normalize();
+                step_spring(&mut record.xi, n, rel, *dt, k_t, eta_t, cap).force
+            } else {
+                record.xi = DVec3::ZERO;
+                DVec3::ZERO
+            };
+            let couple = Some(-u * c.weight_grad);
+            return PointLoad {
+                total: Wrench::at(f_n * c.normal + f_t, c.point, couple, ca, cb),
+                elastic: c.weight * u,
+                dissipative: Some(Wrench::at(f_d * c.normal + f_t, c.point, None, ca, cb)),
+            };
         }
         PointLoad {
             total: Wrench::at(f_n * c.normal, c.point, Some(-u * c.weight_grad), ca, cb),
             elastic: c.weight * u,
-            dissipative,
+            dissipative: None,
         }
     }
 }

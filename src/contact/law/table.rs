@@ -13,6 +13,7 @@
 
 use crate::body::{Body, Material};
 use crate::contact::damping::{damping_constant, Restitution};
+use crate::contact::tangential::{Friction, Tangential};
 use crate::contact::{ColliderKind, HertzLaw, Walls};
 use std::collections::HashMap;
 
@@ -45,6 +46,11 @@ pub(crate) struct LawTable {
     /// Body–body law of kinds `(i, j)` at `i * kinds.len() + j`; empty
     /// above [`MAX_TABLE_KINDS`] kinds.
     pair: Vec<HertzLaw>,
+    /// The walls' `(E, ν)`, if the scene has walls.
+    wall_material: Option<(f64, f64)>,
+    /// The scene's Coulomb coefficients and the time step its springs
+    /// advance by, if it declares friction.
+    friction: Option<(Friction, f64)>,
 }
 
 impl LawTable {
@@ -91,6 +97,8 @@ impl LawTable {
             kinds,
             wall,
             pair,
+            wall_material: walls.map(|w| (w.young, w.poisson)),
+            friction: None,
         }
     }
 
@@ -100,11 +108,52 @@ impl LawTable {
         self
     }
 
+    /// The table with the Coulomb friction `f` (`None`: frictionless),
+    /// its springs advanced by `dt` per computation.
+    pub(crate) fn with_friction(mut self, f: Option<Friction>, dt: f64) -> Self {
+        self.friction = f.map(|f| (f, dt));
+        self
+    }
+
     /// Whether the laws depend on the bodies' velocities (they have a
     /// non-conservative part).
     #[inline]
     pub(crate) fn reads_motion(&self) -> bool {
-        self.alpha.is_some()
+        self.alpha.is_some() || self.friction.is_some()
+    }
+
+    /// Whether the laws keep a record per contact (friction's spring).
+    #[inline]
+    pub(crate) fn keeps_history(&self) -> bool {
+        self.friction.is_some()
+    }
+
+    /// The tangential law of body `a` against the walls and the time step,
+    /// if the walls are frictional.
+    #[inline]
+    pub(crate) fn tangential_wall(&self, a: usize) -> Option<(Tangential, f64)> {
+        let (f, dt) = self.friction?;
+        let (young, poisson) = self.wall_material?;
+        let k = self.kinds[self.kind_of[a] as usize];
+        (f.wall > 0.0).then(|| {
+            (
+                Tangential::new(f.wall, k.young, k.poisson, young, poisson),
+                dt,
+            )
+        })
+    }
+
+    /// The tangential law of bodies `a` and `b` and the time step, if
+    /// body contacts are frictional.
+    #[inline]
+    pub(crate) fn tangential_pair(&self, a: usize, b: usize) -> Option<(Tangential, f64)> {
+        let (f, dt) = self.friction?;
+        let ka = self.kinds[self.kind_of[a] as usize];
+        let kb = self.kinds[self.kind_of[b] as usize];
+        (f.body > 0.0).then(|| {
+            let t = Tangential::new(f.body, ka.young, ka.poisson, kb.young, kb.poisson);
+            (t, dt)
+        })
     }
 
     /// The damping constant of body pairs (0 when elastic).
