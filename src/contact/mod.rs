@@ -17,8 +17,9 @@
 //! candidate pairs; `blocks.rs` is the one loop over them; `ledger.rs`
 //! accounts the work of the non-conservative loads; [`stage`] runs a
 //! computation. [`tangential`] is the friction law (a spring per contact
-//! and the Coulomb cap) that the law's tangential slot will call once
-//! contacts keep a history; no scene runs it yet. Models, limits and their history: docs/contacts.md; the
+//! and the Coulomb cap) that the law's tangential part calls in frictional
+//! scenes; `history.rs` keeps each touching contact's spring by its pair
+//! and slot. Models, limits and their history: docs/contacts.md; the
 //! pipeline: docs/architecture.md.
 
 pub(crate) mod blocks;
