@@ -538,6 +538,8 @@ fn each_candidate<'l, C: Candidates<'l>>(
     counters: &mut KernelCounters,
     sink: &mut impl Sink,
 ) {
+    // Where the last record was found (`history::recall`).
+    let mut cursor = 0;
     for (k, (c, m)) in candidates.iter().zip(memory).enumerate() {
         buf.clear();
         list.eval(c, m, buf, counters);
@@ -546,7 +548,7 @@ fn each_candidate<'l, C: Candidates<'l>>(
             if t.law.keeps_history() {
                 for (s, p) in buf.iter().enumerate() {
                     let key = list.key(c, s, p);
-                    let mut record = recall(list.recorded(), &key);
+                    let mut record = recall(list.recorded(), &mut cursor, &key);
                     let load = t.law.load(p, &mut record);
                     sink.point(&load, p.overlap, t.a, t.b);
                     sink.keep((key, record));

@@ -3,8 +3,8 @@
 //! contact's identity ([`ContactKey`]: its pair and its slot).
 //!
 //! A store is a vector sorted by key, one per candidate list (walls,
-//! body pairs). Each computation reads the last one (a binary search per
-//! point) and writes a new one in list order, from the blocks in the
+//! body pairs). Each computation reads the last one ([`recall`]: mostly
+//! the entry after the last one found, else a binary search) and writes a new one in list order, from the blocks in the
 //! order they are added: a contact not touching this computation loses
 //! its record, and the bits do not depend on the thread count. Only a
 //! law that keeps something per contact (friction) has a store: a
@@ -39,12 +39,27 @@ pub(crate) struct History {
 }
 
 /// The record of `key` in the sorted `store`; a fresh one (a contact that
-/// starts touching) if it has none.
+/// starts touching) if it has none. `cursor` is where the last lookup
+/// ended: the loop asks for the keys in the store's order, and most
+/// contacts last, so the entry at the cursor is usually the one asked
+/// for; otherwise a binary search places it.
 #[inline]
-pub(crate) fn recall(store: &[Entry], key: &ContactKey) -> Record {
+pub(crate) fn recall(store: &[Entry], cursor: &mut usize, key: &ContactKey) -> Record {
+    if let Some((k, r)) = store.get(*cursor) {
+        if k == key {
+            *cursor += 1;
+            return *r;
+        }
+    }
     match store.binary_search_by(|(k, _)| k.cmp(key)) {
-        Ok(i) => store[i].1,
-        Err(_) => Record::default(),
+        Ok(i) => {
+            *cursor = i + 1;
+            store[i].1
+        }
+        Err(i) => {
+            *cursor = i;
+            Record::default()
+        }
     }
 }
 
@@ -74,9 +89,15 @@ mod tests {
             (key(0, 4, 1), rec(2.0)),
             (key(0, 4, 0), rec(1.0)),
         ]);
-        assert_eq!(recall(&store, &key(0, 4, 0)), rec(1.0));
-        assert_eq!(recall(&store, &key(0, 4, 1)), rec(2.0));
-        assert_eq!(recall(&store, &key(3, 1, 0)), rec(3.0));
-        assert_eq!(recall(&store, &key(3, 1, 1)), Record::default());
+        // In order (the cursor hits), out of order and absent (searched).
+        let c = &mut 0;
+        assert_eq!(recall(&store, c, &key(0, 4, 0)), rec(1.0));
+        assert_eq!(recall(&store, c, &key(0, 4, 1)), rec(2.0));
+        assert_eq!(recall(&store, c, &key(3, 1, 0)), rec(3.0));
+        assert_eq!(recall(&store, c, &key(3, 1, 1)), Record::default());
+        assert_eq!(recall(&store, c, &key(0, 4, 1)), rec(2.0));
+        assert_eq!(*c, 2);
+        assert_eq!(recall(&store, c, &key(0, 5, 0)), Record::default());
+        assert_eq!(recall(&store, c, &key(3, 1, 0)), rec(3.0));
     }
 }

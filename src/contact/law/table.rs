@@ -51,6 +51,12 @@ pub(crate) struct LawTable {
     /// The scene's Coulomb coefficients and the time step its springs
     /// advance by, if it declares friction.
     friction: Option<(Friction, f64)>,
+    /// The tangential laws (frictional scenes): body–wall of each kind
+    /// (empty without walls or wall friction), body–body of kinds
+    /// `(i, j)` as [`LawTable::pair`] (empty without body friction or
+    /// above [`MAX_TABLE_KINDS`] kinds).
+    tangential_wall: Vec<Tangential>,
+    tangential_pair: Vec<Tangential>,
 }
 
 impl LawTable {
@@ -99,6 +105,8 @@ impl LawTable {
             pair,
             wall_material: walls.map(|w| (w.young, w.poisson)),
             friction: None,
+            tangential_wall: vec![],
+            tangential_pair: vec![],
         }
     }
 
@@ -112,6 +120,22 @@ impl LawTable {
     /// its springs advanced by `dt` per computation.
     pub(crate) fn with_friction(mut self, f: Option<Friction>, dt: f64) -> Self {
         self.friction = f.map(|f| (f, dt));
+        self.tangential_wall = match (f, self.wall_material) {
+            (Some(f), Some((young, poisson))) if f.wall > 0.0 => (self.kinds.iter())
+                .map(|k| Tangential::new(f.wall, k.young, k.poisson, young, poisson))
+                .collect(),
+            _ => vec![],
+        };
+        self.tangential_pair = match f {
+            Some(f) if f.body > 0.0 && self.kinds.len() <= MAX_TABLE_KINDS => (self.kinds.iter())
+                .flat_map(|a| {
+                    (self.kinds.iter()).map(move |b| {
+                        Tangential::new(f.body, a.young, a.poisson, b.young, b.poisson)
+                    })
+                })
+                .collect(),
+            _ => vec![],
+        };
         self
     }
 
@@ -148,12 +172,23 @@ impl LawTable {
     #[inline]
     pub(crate) fn tangential_pair(&self, a: usize, b: usize) -> Option<(Tangential, f64)> {
         let (f, dt) = self.friction?;
-        let ka = self.kinds[self.kind_of[a] as usize];
-        let kb = self.kinds[self.kind_of[b] as usize];
-        (f.body > 0.0).then(|| {
-            let t = Tangential::new(f.body, ka.young, ka.poisson, kb.young, kb.poisson);
-            (t, dt)
-        })
+        if f.body == 0.0 {
+            return None;
+        }
+        let (ka, kb) = (self.kind_of[a] as usize, self.kind_of[b] as usize);
+        match self.tangential_pair.get(ka * self.kinds.len() + kb) {
+            Some(&t) => Some((t, dt)),
+            None => Some((self.tangential_computed(f.body, ka, kb), dt)),
+        }
+    }
+
+    /// The tangential law of kinds `ka` and `kb` when the table was not
+    /// made.
+    #[cold]
+    #[inline(never)]
+    fn tangential_computed(&self, mu: f64, ka: usize, kb: usize) -> Tangential {
+        let (a, b) = (self.kinds[ka], self.kinds[kb]);
+        Tangential::new(mu, a.young, a.poisson, b.young, b.poisson)
     }
 
     /// The damping constant of body pairs (0 when elastic).
