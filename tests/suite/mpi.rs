@@ -413,3 +413,28 @@ fn vtk_frames_under_two_ranks_are_the_one_process_frames() {
         assert!(ba == bb, "{na} differs between 1 process and 2 ranks");
     }
 }
+
+/// A frictional scene under 2 ranks is refused (exit 2) with a message
+/// naming friction and the fix (its contacts' springs are not carried
+/// across ranks yet).
+#[test]
+fn a_frictional_scene_under_two_ranks_is_refused() {
+    let s = scene_with(common::packed_scene(2, 2, 2, 1e-5) + "[contact]\nfriction = 0.3\n");
+    let out = s.root.join("f");
+    let o = ranks(
+        2,
+        &[
+            "run",
+            s.path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "-q",
+        ],
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("friction") && err.contains("without mpirun"),
+        "{err}"
+    );
+}
