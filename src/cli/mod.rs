@@ -305,6 +305,7 @@ fn settle(mut plan: plan::SettlePlan) -> Result<()> {
         walls: scene.walls.as_ref(),
         materials: &scene.materials,
         restitution: None,
+        friction: scene.friction,
         start_overlap_ratio: Some(crate::generate::settled_start_overlap(
             s.max_overlap_ratio.unwrap_or(0.0),
         )),

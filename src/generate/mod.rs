@@ -181,6 +181,7 @@ pub fn generate(o: &GenerateOptions) -> Result<GenerateReport> {
         walls: Some(&o.walls),
         materials: std::slice::from_ref(&o.material),
         restitution: o.restitution,
+        friction: None,
         start_overlap_ratio: None,
         body_file: &body_file
             .file_name()

@@ -157,6 +157,7 @@ pub fn replicate(scene: &Scene, o: &ReplicateOptions) -> Result<ReplicateReport>
         walls: Some(&walls),
         materials: &big.materials,
         restitution: scene.damping,
+        friction: scene.friction,
         start_overlap_ratio: (start_overlap_ratio > 0.0).then_some(start_overlap_ratio),
         body_file: &body_file
             .file_name()

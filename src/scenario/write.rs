@@ -26,6 +26,9 @@ pub struct BedScenario<'a> {
     pub materials: &'a [Material],
     /// Normal restitution (`None`: elastic).
     pub restitution: Option<Restitution>,
+    /// Coulomb friction (`None`: frictionless): a property of the bodies,
+    /// kept by every bed written from a frictional scene.
+    pub friction: Option<crate::contact::tangential::Friction>,
     /// `guards.start_overlap_ratio`, if any.
     pub start_overlap_ratio: Option<f64>,
     /// The body file, relative to the scenario's folder.
@@ -90,12 +93,23 @@ impl fmt::Display for BedScenario<'_> {
                 num(m.poisson)
             )?;
         }
+        if self.restitution.is_some() || self.friction.is_some() {
+            writeln!(s, "\n[contact]")?;
+        }
         if let Some(e) = self.restitution {
             writeln!(
                 s,
-                "\n[contact]\nrestitution = {}\nwall_restitution = {}",
+                "restitution = {}\nwall_restitution = {}",
                 num(e.fibre),
                 num(e.wall)
+            )?;
+        }
+        if let Some(f) = self.friction {
+            writeln!(
+                s,
+                "friction = {}\nwall_friction = {}",
+                num(f.body),
+                num(f.wall)
             )?;
         }
         if let Some(r) = self.start_overlap_ratio {

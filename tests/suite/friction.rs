@@ -344,3 +344,41 @@ fn a_frictional_checkpoint_is_not_resumed() {
         "{err}"
     );
 }
+
+/// A bed settled from a frictional scene keeps its friction (a property of
+/// the bodies, not a settling aid as the damping is): the written scenario
+/// loads with the same two coefficients, and without the restitution.
+#[test]
+fn a_settled_frictional_bed_keeps_its_friction() {
+    let dir = tempfile::tempdir().unwrap();
+    let contact = "restitution = 0.3\nfriction = 0.4\nwall_friction = 0.25";
+    let text = scene(
+        1e-3,
+        [0.0, 0.0, -G],
+        contact,
+        100,
+        &sphere(0.01, 0.0, [0.0; 3]),
+    );
+    let file = dir.path().join("s.toml");
+    std::fs::write(&file, text).unwrap();
+    let bed = dir.path().join("bed.toml");
+    let out = dir.path().join("o");
+    let o = fibresim(&[
+        "settle",
+        file.to_str().unwrap(),
+        "--ke-per-fibre",
+        "1",
+        "--check-every",
+        "100",
+        "--write",
+        bed.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let written = fibresim::scenario::load(&bed).expect("the settled bed loads");
+    let f = written.friction.expect("the bed keeps its friction");
+    assert_eq!((f.body, f.wall), (0.4, 0.25));
+    assert!(written.damping.is_none());
+}
