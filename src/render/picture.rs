@@ -58,11 +58,10 @@ pub(crate) fn picture(frame: &Frame, look: &Look) -> Pixmap {
     }
     let font = text::font();
     let title = format!(
-        "t = {} s    step {}    {} fibre{}",
+        "t = {} s    step {}    {}",
         short(frame.t),
         frame.step,
-        frame.fibres.len(),
-        if frame.fibres.len() == 1 { "" } else { "s" }
+        census(frame)
     );
     text::draw(&mut pm, &font, 18.0, (12.0, 26.0), &title, [30, 30, 30]);
     match look.scale.field {
@@ -250,6 +249,23 @@ fn legend(pm: &mut Pixmap, font: &ab_glyph::FontRef, frame: &Frame) {
     }
 }
 
+/// "12 fibres", "1 sphere", "900 fibres and 100 spheres": what the frame
+/// holds (a sphere is a body of zero length).
+fn census(frame: &Frame) -> String {
+    let spheres = frame.fibres.iter().filter(|f| f.length == 0.0).count();
+    let fibres = frame.fibres.len() - spheres;
+    let count = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
+    match (fibres, spheres) {
+        (_, 0) => count(fibres, "fibre"),
+        (0, _) => count(spheres, "sphere"),
+        _ => format!(
+            "{} and {}",
+            count(fibres, "fibre"),
+            count(spheres, "sphere")
+        ),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -262,5 +278,36 @@ mod tests {
         assert_eq!(ticks(0.0, 3.0, true), vec![0.0, 1.0, 2.0, 3.0]);
         assert_eq!(short(0.5), "0.5");
         assert_eq!(short(1.2345678), "1.23457");
+    }
+
+    /// The title counts fibres and spheres (a body of zero length) apart.
+    #[test]
+    fn the_title_names_fibres_and_spheres() {
+        let body = |length| crate::render::frame::Fibre {
+            centre: glam::DVec3::ZERO,
+            axis: glam::DVec3::X,
+            diameter: 0.01,
+            length,
+            velocity: glam::DVec3::ZERO,
+            omega: glam::DVec3::ZERO,
+            kinetic_energy: 0.0,
+            contacts: 0,
+            material: 0,
+            id: 0,
+        };
+        let frame = |bodies: Vec<f64>| Frame {
+            step: 0,
+            t: 0.0,
+            fibres: bodies.into_iter().map(body).collect(),
+            walls: None,
+            materials: vec![],
+        };
+        assert_eq!(census(&frame(vec![0.03])), "1 fibre");
+        assert_eq!(census(&frame(vec![0.0, 0.0])), "2 spheres");
+        assert_eq!(
+            census(&frame(vec![0.03, 0.03, 0.0])),
+            "2 fibres and 1 sphere"
+        );
+        assert_eq!(census(&frame(vec![])), "0 fibres");
     }
 }

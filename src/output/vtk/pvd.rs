@@ -31,13 +31,10 @@ impl Pvd {
 
     /// A new, empty collection.
     pub fn create(&mut self) -> Result<()> {
-        let mut f = File::create(&self.path).map_err(|e| Error::io(&self.path, e))?;
-        f.write_all(HEAD.as_bytes())
-            .and_then(|_| f.write_all(TAIL.as_bytes()))
-            .map_err(|e| Error::io(&self.path, e))?;
-        self.body_len = HEAD.len() as u64;
-        self.file = Some(f);
-        Ok(())
+        // Whole or not at all (a temporary file renamed over any older
+        // collection), then opened to append.
+        crate::output::file::write_whole(&self.path, (HEAD.to_owned() + TAIL).as_bytes())?;
+        self.reopen(HEAD.len() as u64)
     }
 
     /// Continue a collection cut to `len` bytes (a checkpoint's length).
