@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # fibresim next to its peers on the same bed: LIGGGHTS (multisphere) and LAMMPS
 # (fix rigid/small) on 10^4 fibres, plus LAMMPS's own chute benchmark to place
-# the machine. docs/peers.md says what is compared and how to read the table.
+# the machine and fibresim on a settled bed of 10^4 Hertz spheres beside it
+# (scenarios/bed_spheres_10k.toml). docs/peers.md says what is compared and how to read the table.
 #
 #   scripts/peers.sh                 8 alternated rounds on 1 and 2 cores
 #   scripts/peers.sh --quick         2 rounds of 500 timed steps: checks that everything runs
+#   scripts/peers.sh --spheres       only the 10^4-sphere bed and the chute
 #   scripts/peers.sh --help          every option
 #
 # Steps: (1) install Debian's liggghts, lammps and time when missing (as root
@@ -28,7 +30,8 @@ usage() {
 usage: scripts/peers.sh [options]
   --rounds R        alternated rounds (default 8; 2 with --quick)
   --threads LIST    process/thread counts, comma-separated (default 1,2)
-  --codes LIST      any of liggghts,lammps,fibresim,chute (default all four)
+  --codes LIST      any of liggghts,lammps,fibresim,spheres,chute (default all five;
+                    spheres: fibresim on the settled 10^4-sphere bed, beside the chute)
   --quick           2 rounds, 50 warm-up + 500 timed steps: a check that every job runs, not a measurement
   --steps N         timed steps of the bed (default 2000, at dt = 1e-6 s)
   --warmup N        the peers' untimed steps before them (default 200)
@@ -40,7 +43,7 @@ usage: scripts/peers.sh [options]
   --pause S         seconds of rest between jobs (default 3)
   --settle-only     install, settle and convert the bed, then stop
   --no-install      never call apt-get; fail if a tool is missing
-  --spheres         the 10^4-sphere Hertz bed next to the chute: not available yet (see below)
+  --spheres         the same as --codes spheres,chute
 EOF
 }
 
@@ -49,7 +52,7 @@ die() { # code message
   exit "$1"
 }
 
-rounds="" threads=1,2 codes=liggghts,lammps,fibresim,chute quick=0 steps="" warmup=""
+rounds="" threads=1,2 codes=liggghts,lammps,fibresim,spheres,chute quick=0 steps="" warmup=""
 out="" cache="${XDG_CACHE_HOME:-$HOME/.cache}/fibresim/peers" chute_dir="${PEERS_CHUTE_DIR:-}"
 pause=3 settle_only=0 install=1
 while [ $# -gt 0 ]; do
@@ -66,12 +69,7 @@ while [ $# -gt 0 ]; do
     --quick) quick=1; shift ;;
     --settle-only) settle_only=1; shift ;;
     --no-install) install=0; shift ;;
-    --spheres)
-      # The sphere target: fibresim on a bed of 10^4 Hertz spheres (elastic,
-      # frictionless) next to the chute's atom-steps/s. fibresim takes such a
-      # bed (`generate --spheres`), but its settling and timing are not
-      # written here yet: refused rather than measured on something else.
-      die 2 "--spheres: the sphere bed's comparison is not written yet (make a bed with fibresim generate --spheres N --sphere-diameter D and time it with fibresim run); run without --spheres" ;;
+    --spheres) codes=spheres,chute; shift ;;
     -h | --help) usage; exit 0 ;;
     *) usage >&2; die 2 "unknown option '$1' (see the list above)" ;;
   esac
@@ -91,7 +89,7 @@ done
 IFS=, read -r -a want <<<"$codes"
 has() { [[ ,$codes, == *,$1,* ]]; }
 for c in "${want[@]}"; do
-  case $c in liggghts | lammps | fibresim | chute) ;; *) die 2 "--codes: unknown code '$c' (liggghts, lammps, fibresim, chute)" ;; esac
+  case $c in liggghts | lammps | fibresim | spheres | chute) ;; *) die 2 "--codes: unknown code '$c' (liggghts, lammps, fibresim, spheres, chute)" ;; esac
 done
 [[ $cache != *" "* && $repo != *" "* ]] || die 2 "LIGGGHTS and LAMMPS read paths with spaces as two words: use a --cache and a checkout without spaces"
 
@@ -167,11 +165,11 @@ if has chute; then
     codes=${codes//chute/}
   fi
 fi
-has liggghts || has lammps || has fibresim || has chute || die 2 "nothing left to run (--codes $codes)"
+has liggghts || has lammps || has fibresim || has spheres || has chute || die 2 "nothing left to run (--codes $codes)"
 
 # ---- 3. fibresim ---------------------------------------------------------------
 fibresim=$repo/target/release/fibresim
-if has fibresim; then
+if has fibresim || has spheres; then
   cargo build --release -q || die 1 "cargo build --release failed"
 fi
 
@@ -189,7 +187,7 @@ every=$((steps < 500 ? steps : 500)) # the peers' thermo cadence
 {
   echo "Peer comparison, $(date '+%Y-%m-%d %H:%M %Z'), $cores cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'))"
   echo "fibresim $(git rev-parse --short HEAD 2>/dev/null)$(git diff --quiet HEAD -- src Cargo.toml Cargo.lock 2>/dev/null || echo ' (modified)'), $(dpkg-query -W -f='liggghts ${Version}, ' liggghts 2>/dev/null)$(dpkg-query -W -f='lammps ${Version}' lammps 2>/dev/null)"
-  echo "bed: 10^4 fibres, dt = $dt s, $warmup warm-up steps (peers) + $steps timed steps; $rounds rounds; counts ${ns[*]}$([ $quick = 1 ] && echo '; QUICK MODE: a check, not a measurement')"
+  echo "beds: 10^4 fibres (and 10^4 spheres), dt = $dt s, $warmup warm-up steps (peers) + $steps timed steps; $rounds rounds; counts ${ns[*]}$([ $quick = 1 ] && echo '; QUICK MODE: a check, not a measurement')"
 } >"$out/meta.txt"
 cat "$out/meta.txt"
 
@@ -237,6 +235,10 @@ for r in $(seq 1 "$rounds"); do
     has fibresim && job "$r" fibresim "$n" env RAYON_NUM_THREADS="$n" /usr/bin/time -v -o time.txt "$fibresim" run \
       "$repo/scenarios/bed_10k.toml" --dt "$dt" --t-end "$t_end" --every "$every" --threads "$n" -q --out out
   done
+  for n in "${ns[@]}"; do
+    has spheres && job "$r" spheres "$n" env RAYON_NUM_THREADS="$n" /usr/bin/time -v -o time.txt "$fibresim" run \
+      "$repo/scenarios/bed_spheres_10k.toml" --dt "$dt" --t-end "$t_end" --every "$every" --threads "$n" -q --out out
+  done
   has chute && job "$r" chute 1 chute
 done
 trap - INT TERM
@@ -244,7 +246,7 @@ trap - INT TERM
 # ---- 5. report and figure ----------------------------------------------------------
 python3 "$repo/scripts/peers_report.py" report "$csv" "$out"
 status=$?
-if [ -s "$out/medians.csv" ] && [ -x "$fibresim" ]; then
+if [ "$(wc -l <"$out/medians.csv" 2>/dev/null || echo 0)" -gt 1 ] && [ -x "$fibresim" ]; then
   "$fibresim" plot "$out/medians.csv" --column M_fibre_steps_per_s --x threads -o "$out/peers.png" >/dev/null &&
     echo "figure: $out/peers.png" || echo "peers.sh: the figure could not be drawn (fibresim plot failed)" >&2
 fi

@@ -11,8 +11,9 @@
         written to OUTDIR/summary.md; OUTDIR/medians.csv (code, count, median
         rate; one series per code) is the figure's table.
 
-CODE is fibresim, liggghts, lammps or chute. Rates are bodies x steps / loop
-time of the timed steps: fibre-steps/s for the bed, atom-steps/s for the chute.
+CODE is fibresim, liggghts, lammps, spheres (fibresim on the 10^4-sphere bed)
+or chute. Rates are bodies x steps / loop time of the timed steps: fibre-steps/s
+for the fibre bed, sphere-steps/s for the sphere bed, atom-steps/s for the chute.
 The peers' loop time is the last "Loop time" line of their log (the timed run,
 after the warm-up run); fibresim's is summary.json's wall_s (the step loop,
 set-up excluded). Peak RSS is /usr/bin/time -v's maximum resident set size,
@@ -30,8 +31,12 @@ LABEL = {
     "liggghts": "LIGGGHTS multisphere",
     "lammps": "LAMMPS rigid/small",
     "fibresim": "fibresim",
+    "spheres": "fibresim spheres",
     "chute": "LAMMPS chute",
 }
+# Runs that are not the fibre bed: beside each other, not in the fibre figure.
+SPHERE_CODES = ("spheres", "chute")
+WHAT = {"chute": "M atom-steps/s", "spheres": "M sphere-steps/s"}
 PEERS = ("liggghts", "lammps")
 SPHERES_PER_FIBRE = 4
 COLUMNS = [
@@ -109,7 +114,7 @@ def fibresim_result(jobdir):
 
 def row(args):
     csv_path, rnd, code, n, jobdir, rc, l1, l5, l15 = args
-    res = fibresim_result(jobdir) if code == "fibresim" else peer_result(jobdir, code)
+    res = fibresim_result(jobdir) if code in ("fibresim", "spheres") else peer_result(jobdir, code)
     ranks = peak_rss(jobdir)
     r = dict.fromkeys(COLUMNS, "")
     r.update(round=rnd, code=code, label=LABEL[code], n=n, unit=unit(code), load1=l1, load5=l5, load15=l15)
@@ -132,7 +137,7 @@ def row(args):
         w.writerow(r)
         f.flush()
         os.fsync(f.fileno())
-    what = "M atom-steps/s" if code == "chute" else "M fibre-steps/s"
+    what = WHAT.get(code, "M fibre-steps/s")
     if r["status"] == "ok":
         print(f"  {r['label']} {n}{unit(code)}: {r['rate_M']} {what}, peak RSS {r['peak_rss_kB']} kB [load {l1}]")
     else:
@@ -155,8 +160,8 @@ def report(args):
     groups = {}
     for r in ok:
         groups.setdefault((r["code"], int(r["n"])), []).append(r)
-    order = ["liggghts", "lammps", "fibresim", "chute"]
-    keys = sorted(groups, key=lambda k: (k[0] == "chute", k[1], order.index(k[0])))
+    order = ["liggghts", "lammps", "fibresim", "spheres", "chute"]
+    keys = sorted(groups, key=lambda k: (k[0] in SPHERE_CODES, k[1], order.index(k[0])))
     med = {k: statistics.median(float(r["rate_M"]) for r in groups[k]) for k in keys}
     meta = read(os.path.join(outdir, "meta.txt")) or ""
     loads = [float(r["load1"]) for r in rows if r["load1"]]
@@ -179,7 +184,7 @@ def report(args):
             f"{fmt(statistics.median(contacts) / bodies, 2) if contacts else '-'} |"
         )
     notes = []
-    ns = sorted({n for c, n in keys if c != "chute"})
+    ns = sorted({n for c, n in keys if c not in SPHERE_CODES})
     for peer in PEERS:
         parts = [
             f"{n}: {fmt(med[('fibresim', n)] / med[(peer, n)], 2)}"
@@ -188,7 +193,14 @@ def report(args):
         ]
         if parts:
             notes.append(f"- fibresim / {LABEL[peer]} (ratio of medians, same n): " + ", ".join(parts))
-    for code in ("fibresim",) + PEERS:
+    if ("chute", 1) in med:
+        parts = [f"{n}t: {fmt(med[('spheres', n)] / med[('chute', 1)], 2)}" for n in sorted({n for c, n in keys if c == "spheres"})]
+        if parts:
+            notes.append(
+                "- fibresim spheres (Hertz, frictionless) / LAMMPS chute on one core (gran/hooke/history, 32 000 atoms), "
+                "bodies x steps/s: " + ", ".join(parts)
+            )
+    for code in ("fibresim", "spheres") + PEERS:
         if (code, 1) not in med:
             continue
         parts = [f"{n}{unit(code)}: {fmt(100 * med[(code, n)] / (n * med[(code, 1)]), 0)} %" for n in ns if n > 1 and (code, n) in med]
@@ -196,7 +208,7 @@ def report(args):
             notes.append(f"- parallel efficiency of {LABEL[code]} (median(n) / (n x median(1))): " + ", ".join(parts))
     if loads:
         notes.append(f"- load average (1 min) before the jobs: {min(loads):.2f} - {max(loads):.2f}, median {statistics.median(loads):.2f}")
-    sizes = {LABEL[c]: int(groups[(c, n)][0]["bodies"]) for c, n in keys if c != "chute"}
+    sizes = {LABEL[c]: int(groups[(c, n)][0]["bodies"]) for c, n in keys if c not in SPHERE_CODES}
     if len(set(sizes.values())) > 1:
         notes.append(f"- NOT THE SAME BED SIZE, the ratios compare unlike runs: {sizes}")
     for r in failed:
@@ -207,7 +219,7 @@ def report(args):
     print(meta + ("\n" if meta else "") + text, end="")
     with open(os.path.join(outdir, "medians.csv"), "w") as f:
         f.write("series,threads,M_fibre_steps_per_s\n")
-        f.writelines(f"{LABEL[c]},{n},{med[(c, n)]:.4f}\n" for c, n in keys if c != "chute")
+        f.writelines(f"{LABEL[c]},{n},{med[(c, n)]:.4f}\n" for c, n in keys if c not in SPHERE_CODES)
     return 1 if failed else 0
 
 
