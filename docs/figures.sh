@@ -88,4 +88,5 @@ if [ "$long" = 1 ]; then
   cp out/nine_fibres/compare/energy_error_full.png "$fig/tc2_compare.png"
   "$fibresim" compare scenarios/nine_fibres.toml --rotators frozen --out out/nine_fibres/frozen # ~20 s
 fi
+[ "$long" = 0 ] || scripts/friction_studies.sh # friction: rotators, beds, heap (~1 h)
 echo "figures in $fig/"
