@@ -15,8 +15,13 @@ pub struct Ledger {
     pub rotation: f64,
     /// `Σ U` over live contacts (Hertz, docs/physics.md §3).
     pub elastic: f64,
-    /// Energy removed by contact damping since step 0 (`[contact]`
-    /// restitution; 0 in elastic scenes), J.
+    /// Energy stored in the friction springs of live contacts,
+    /// `Σ ½ k_t |ξ|²` (docs/contacts.md, "Friction"; 0 without friction), J.
+    pub spring: f64,
+    /// Energy removed by the contacts' damping and friction since step 0
+    /// (`[contact]` restitution, friction; 0 in elastic frictionless
+    /// scenes): the work done against their non-conservative forces less
+    /// what the springs hold, J.
     pub dissipated: f64,
 }
 
@@ -54,10 +59,10 @@ impl Ledger {
         self.gravity + self.translation + self.rotation
     }
 
-    /// Eq. 64 plus the elastic energy of live contacts and the energy
-    /// dissipated so far: the conserved budget.
+    /// Eq. 64 plus the elastic and spring energy of live contacts and the
+    /// energy dissipated so far: the conserved budget.
     pub fn total_full(&self) -> f64 {
-        self.total() + self.elastic + self.dissipated
+        self.total() + self.elastic + self.spring + self.dissipated
     }
 }
 

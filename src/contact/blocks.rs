@@ -21,12 +21,14 @@
 //!
 //! How a fibre pair's points are obtained is the loop's type parameter
 //! ([`PairKernel`]): computed by the kernels, or replayed by a measuring
-//! build (`contact/replay.rs`).
+//! build (`contact/replay.rs`). Whether the law keeps a record per contact
+//! is another ([`Keeping`]): a frictionless scene's loop is compiled
+//! without the history's lookups and writes.
 
 use super::broad::NeighbourList;
 use super::fibre_fibre::PairMemory;
 use super::history::{recall, sorted, ContactKey, Entry, History};
-use super::law::{CandidateLaw, Laws, PointLoad, Record, Side, Wrench};
+use super::law::{CandidateLaw, Keeping, Laws, PointLoad, Record, Side, Wrench};
 use super::shape::{collider, ColliderKind};
 use super::stage::ContactStats;
 use super::{contacts, Collider, ContactPoint, FibreGeom, KernelCounters, Wall};
@@ -118,8 +120,10 @@ struct Block {
     hits: Vec<(u8, u16)>,
     points: Vec<Point>,
     dissipative: Vec<Wrench>,
-    /// The touching contacts' records (a law that keeps them), in order.
+    /// The touching contacts' records (a law that keeps them), in order,
+    /// and the energy of each one's spring.
     records: Vec<Entry>,
+    springs: Vec<f64>,
     stats: ContactStats,
     counters: KernelCounters,
     /// `n + 1` once block `n` of the list is computed here (0: none yet;
@@ -229,8 +233,9 @@ trait Sink {
     fn point(&mut self, load: &PointLoad, overlap: f64, a: (usize, f64), b: Option<(usize, f64)>);
     /// Candidate `k` of the block touched: its points are in.
     fn touched(&mut self, k: usize);
-    /// A touching contact's record after its computation.
-    fn keep(&mut self, entry: Entry);
+    /// A touching contact's record after its computation, and the energy
+    /// of its spring.
+    fn keep(&mut self, entry: Entry, spring: f64);
 }
 
 impl Sink for Block {
@@ -265,8 +270,9 @@ impl Sink for Block {
     }
 
     #[inline(always)]
-    fn keep(&mut self, entry: Entry) {
+    fn keep(&mut self, entry: Entry, spring: f64) {
         self.records.push(entry);
+        self.springs.push(spring);
     }
 }
 
@@ -286,6 +292,7 @@ impl Block {
         self.points.clear();
         self.dissipative.clear();
         self.records.clear();
+        self.springs.clear();
         self.stats = ContactStats::default();
         self.counters = KernelCounters::default();
     }
@@ -298,6 +305,7 @@ impl Block {
         trim(&mut self.points, p);
         trim(&mut self.dissipative, d);
         trim(&mut self.records, r);
+        trim(&mut self.springs, r);
     }
 
     /// Each hit's candidate (index in the block) and the range of its
@@ -336,8 +344,8 @@ thread_local! {
 /// A touching candidate as its evaluation leaves it (its points in the
 /// kernels' buffer): its law, and its body A and body B (none for a wall),
 /// each as `(index, diameter)`.
-pub(crate) struct Touching<'l> {
-    law: CandidateLaw<'l>,
+pub(crate) struct Touching<'l, F> {
+    law: CandidateLaw<'l, F>,
     a: (usize, f64),
     b: Option<(usize, f64)>,
 }
@@ -349,6 +357,8 @@ trait Candidates<'l>: Sync {
     type Candidate: Sync;
     /// What the list keeps per candidate between computations.
     type Memory: Send;
+    /// Whether its laws keep a record per contact.
+    type Keeping: Keeping;
 
     /// Candidate `c` with its memory `m` through the kernels into `buf`
     /// (counted in `counters`): it touches if `buf` is not empty.
@@ -361,7 +371,7 @@ trait Candidates<'l>: Sync {
     );
 
     /// Touching candidate `c`'s law and bodies.
-    fn touching(&self, c: &Self::Candidate) -> Touching<'l>;
+    fn touching(&self, c: &Self::Candidate) -> Touching<'l, Self::Keeping>;
 
     /// Candidate `c`'s body A and body B (none for a wall).
     fn bodies(&self, c: &Self::Candidate) -> (usize, Option<usize>);
@@ -377,13 +387,13 @@ trait Candidates<'l>: Sync {
 /// What both lists read: the bodies' geometry records and collider kinds,
 /// and the laws.
 #[derive(Clone, Copy)]
-struct Scene<'a, 'l> {
+struct Scene<'a, 'l, F> {
     geoms: &'a [FibreGeom],
     kinds: &'a [ColliderKind],
-    laws: &'a Laws<'l>,
+    laws: &'a Laws<'l, F>,
 }
 
-impl<'l> Scene<'_, 'l> {
+impl<'l, F: Keeping> Scene<'_, 'l, F> {
     /// Body `i`'s collider.
     #[inline(always)]
     fn collider(&self, i: usize) -> Collider<'_> {
@@ -408,16 +418,17 @@ impl<'l> Scene<'_, 'l> {
 
 /// The wall candidates `(body, wall)` of a box, and their contacts'
 /// records of the last computation.
-struct WallList<'a, 'l> {
-    scene: Scene<'a, 'l>,
+struct WallList<'a, 'l, F> {
+    scene: Scene<'a, 'l, F>,
     walls: &'a [Wall],
     recorded: &'a [Entry],
 }
 
-impl<'l> Candidates<'l> for WallList<'_, 'l> {
+impl<'l, F: Keeping> Candidates<'l> for WallList<'_, 'l, F> {
     type Candidate = (u32, u32);
     /// Walls remember nothing (a zero-sized entry each).
     type Memory = ();
+    type Keeping = F;
 
     #[inline(always)]
     fn eval(
@@ -432,7 +443,7 @@ impl<'l> Candidates<'l> for WallList<'_, 'l> {
     }
 
     #[inline(always)]
-    fn touching(&self, &(i, _): &(u32, u32)) -> Touching<'l> {
+    fn touching(&self, &(i, _): &(u32, u32)) -> Touching<'l, F> {
         let i = i as usize;
         Touching {
             law: self.scene.laws.wall(self.scene.side(i)),
@@ -468,8 +479,8 @@ impl<'l> Candidates<'l> for WallList<'_, 'l> {
 
 /// The body pair candidates `(i, j)`, with their memories, whose
 /// contacts `kernel` gives.
-struct PairList<'a, 'l, K> {
-    scene: Scene<'a, 'l>,
+struct PairList<'a, 'l, K, F> {
+    scene: Scene<'a, 'l, F>,
     /// Each body's motion bound since the last computation.
     motion: &'a [f32],
     kernel: &'a K,
@@ -477,9 +488,10 @@ struct PairList<'a, 'l, K> {
     recorded: &'a [Entry],
 }
 
-impl<'l, K: PairKernel> Candidates<'l> for PairList<'_, 'l, K> {
+impl<'l, K: PairKernel, F: Keeping> Candidates<'l> for PairList<'_, 'l, K, F> {
     type Candidate = (u32, u32);
     type Memory = PairMemory;
+    type Keeping = F;
 
     #[inline(always)]
     fn eval(
@@ -496,7 +508,7 @@ impl<'l, K: PairKernel> Candidates<'l> for PairList<'_, 'l, K> {
     }
 
     #[inline(always)]
-    fn touching(&self, &(a, b): &(u32, u32)) -> Touching<'l> {
+    fn touching(&self, &(a, b): &(u32, u32)) -> Touching<'l, F> {
         let (a, b) = (a as usize, b as usize);
         Touching {
             law: self.scene.laws.pair(self.scene.side(a), self.scene.side(b)),
@@ -551,7 +563,7 @@ fn each_candidate<'l, C: Candidates<'l>>(
                     let mut record = recall(list.recorded(), &mut cursor, &key);
                     let load = t.law.load(p, &mut record);
                     sink.point(&load, p.overlap, t.a, t.b);
-                    sink.keep((key, record));
+                    sink.keep((key, record), load.spring);
                 }
             } else {
                 for p in buf.iter() {
@@ -620,6 +632,8 @@ struct Sums<'a> {
     counters: &'a mut KernelCounters,
     /// The contacts' records, in list order (a law that keeps them).
     kept: Vec<Entry>,
+    /// The energy stored in their springs, summed in list order, J.
+    spring: f64,
 }
 
 /// One worker's sink: each point's loads added to the bodies at once, its
@@ -662,8 +676,9 @@ impl Sink for Sums<'_> {
     }
 
     #[inline(always)]
-    fn keep(&mut self, entry: Entry) {
+    fn keep(&mut self, entry: Entry, spring: f64) {
         self.kept.push(entry);
+        self.spring += spring;
     }
 }
 
@@ -708,6 +723,9 @@ impl Sums<'_> {
             self.stats.elastic += p.energy;
         }
         self.kept.extend_from_slice(&block.records);
+        for s in &block.springs {
+            self.spring += s;
+        }
     }
 
     /// Compute `candidates` of `list` (with their `memory`, one each) on
@@ -859,22 +877,22 @@ impl Blocks {
     /// ones put in its place. With `keep_hits` the rings hold the whole
     /// list, whose hits stay for [`Blocks::for_each_hit`].
     #[allow(clippy::too_many_arguments)]
-    pub(crate) fn compute<K: PairKernel>(
+    pub(crate) fn compute<K: PairKernel, F: Keeping>(
         &mut self,
         kernel: &K,
         list: &mut NeighbourList,
         (geoms, kinds, motion, walls): (&[FibreGeom], &[ColliderKind], &[f32], &[Wall]),
-        laws: &Laws,
+        laws: &Laws<F>,
         (force, torque): (&mut [DVec3], &mut [DVec3]),
         counters: &mut KernelCounters,
         dissipative: Option<Dissipative>,
         history: Option<&mut History>,
         keep_hits: bool,
         workers: usize,
-    ) -> ContactStats {
+    ) -> (ContactStats, f64) {
         // The last computation's records; the touching contacts' new ones
         // replace them (a contact not touching now loses its record).
-        let recorded = history.map(|h| {
+        let recorded = history.filter(|_| F::RECORDS).map(|h| {
             let old = std::mem::take(h);
             (h, old)
         });
@@ -888,7 +906,7 @@ impl Blocks {
         if list.walls.is_empty() && list.pairs.is_empty() {
             // Bodies far apart: no block to compute (the rings keep their
             // buffers for the next contacts).
-            return ContactStats::default();
+            return (ContactStats::default(), 0.0);
         }
         // The last step's hits (kept for `for_each_hit`) go; what its
         // blocks did not use is released.
@@ -924,6 +942,7 @@ impl Blocks {
             stats: ContactStats::default(),
             counters,
             kept: vec![],
+            spring: 0.0,
         };
         let (old_walls, old_pairs) = match &recorded {
             Some((_, old)) => (&old.walls[..], &old.pairs[..]),
@@ -970,7 +989,7 @@ impl Blocks {
             h.walls = sorted(kept_walls);
             h.pairs = sorted(sums.kept);
         }
-        sums.stats
+        (sums.stats, sums.spring)
     }
 }
 
@@ -1030,7 +1049,7 @@ impl Blocks {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::contact::law::LawTable;
+    use crate::contact::law::{Frictionless, LawTable};
 
     /// A candidate's pseudo-random load (a hash of its index, in [−1, 1);
     /// not a stream like `fibre_fibre/uniform.rs`: the blocks are computed
@@ -1110,7 +1129,7 @@ mod tests {
     /// candidates in order, each point's loads (by the law) added at once.
     fn serial(n: usize) -> Vec<Vec<u64>> {
         let (table, centres) = fibres();
-        let laws = Laws::new(&table, &[], &[]);
+        let laws = Laws::<Frictionless>::new(&table, &[], &[]);
         let side = |i: usize| Side {
             index: i,
             centre: centres[i],
@@ -1149,7 +1168,7 @@ mod tests {
     /// each counts its evaluations in its memory, and the blocks cost
     /// unevenly, so that they finish out of order.
     struct Synthetic<'a, 'l> {
-        laws: &'a Laws<'l>,
+        laws: &'a Laws<'l, Frictionless>,
         centres: &'a [DVec3],
         salt: u64,
     }
@@ -1157,6 +1176,7 @@ mod tests {
     impl<'l> Candidates<'l> for Synthetic<'_, 'l> {
         type Candidate = u32;
         type Memory = u32;
+        type Keeping = Frictionless;
 
         fn eval(
             &self,
@@ -1173,7 +1193,7 @@ mod tests {
             points(c, self.salt, buf);
         }
 
-        fn touching(&self, c: &u32) -> Touching<'l> {
+        fn touching(&self, c: &u32) -> Touching<'l, Frictionless> {
             let (a, b) = bodies(c);
             let b = b.unwrap();
             let side = |i: usize| Side {
@@ -1210,7 +1230,7 @@ mod tests {
     /// candidate was computed.
     fn ordered(n: usize, threads: usize, size: usize) -> (Vec<Vec<u64>>, Vec<u32>) {
         let (table, centres) = fibres();
-        let laws = Laws::new(&table, &[], &[]);
+        let laws = Laws::<Frictionless>::new(&table, &[], &[]);
         let candidates: Vec<u32> = (0..n as u32).collect();
         let mut computed = vec![0u32; n];
         let mut ring: Ring = vec![];
@@ -1230,6 +1250,7 @@ mod tests {
                 stats: ContactStats::default(),
                 counters: &mut counters,
                 kept: vec![],
+                spring: 0.0,
             };
             let list = Synthetic {
                 laws: &laws,

@@ -14,7 +14,7 @@ use super::broad::NeighbourList;
 use super::damping::Restitution;
 use super::fibre_fibre::{dome_sag, PairMemory};
 use super::history::History;
-use super::law::{LawTable, Laws};
+use super::law::{Frictional, Frictionless, Keeping, LawTable, Laws};
 use super::ledger::WorkLedger;
 use super::memory::{entries, Entry};
 pub use super::shape::geom;
@@ -55,6 +55,9 @@ pub struct ContactStage {
     blocks: Blocks,
     /// The touching contacts' records, if the law keeps them (friction).
     history: Option<History>,
+    /// The energy stored in those contacts' springs at the last
+    /// computation, J (0 without friction).
+    spring: f64,
     /// Each body's motion bound since the last computation (m, rounded
     /// up), spent by its pairs' memories (`fibre_fibre/coherence.rs`).
     motion: Vec<f32>,
@@ -114,6 +117,7 @@ impl ContactStage {
             ledger: None,
             blocks: Blocks::default(),
             history: None,
+            spring: 0.0,
             motion: vec![],
             #[cfg(feature = "mpi")]
             gathered: None,
@@ -154,10 +158,23 @@ impl ContactStage {
     }
 
     /// Energy dissipated by the non-conservative loads up to the last
-    /// computation's state, J (0 for an elastic law).
+    /// computation's state, J (0 for an elastic law): the work done
+    /// against them less what of it the friction springs hold
+    /// ([`ContactStage::spring_energy`]), which they give back as they
+    /// unload.
     #[inline]
     pub fn dissipated(&self) -> f64 {
-        self.ledger.as_ref().map_or(0.0, |l| l.dissipated)
+        self.ledger
+            .as_ref()
+            .map_or(0.0, |l| l.dissipated - self.spring)
+    }
+
+    /// Energy stored in the tangential springs of the touching contacts at
+    /// the last computation, `Σ ½ k_t |ξ|²` with that computation's `k_t`,
+    /// J (0 without friction).
+    #[inline]
+    pub fn spring_energy(&self) -> f64 {
+        self.spring
     }
 
     /// The ledger's state between steps (`None` for an elastic law;
@@ -249,22 +266,40 @@ impl ContactStage {
     ) {
         let workers = workers(bodies.len());
         self.update_geometry(bodies, states, workers > 1);
-        let laws = Laws::new(&self.laws, bodies, states);
-        self.stats = candidate_loop(
+        // The law's records chosen once: a frictionless loop has none.
+        (self.stats, self.spring) = if self.laws.keeps_history() {
+            self.candidates::<Frictional>(bodies, states, force, torque, workers)
+        } else {
+            self.candidates::<Frictionless>(bodies, states, force, torque, workers)
+        };
+        if let Some(l) = &mut self.ledger {
+            l.account(bodies, states, force);
+        }
+    }
+
+    /// The candidate loop over this stage's own list, with laws that keep
+    /// records or not (`F`), its ledger and its history.
+    #[inline(always)]
+    fn candidates<F: Keeping>(
+        &mut self,
+        bodies: &[Body],
+        states: &[BodyState],
+        force: &mut [DVec3],
+        torque: &mut [DVec3],
+        workers: usize,
+    ) -> (ContactStats, f64) {
+        candidate_loop(
             &mut self.blocks,
             &mut self.neighbours,
             (&self.geoms, &self.kinds, &self.motion, &self.walls),
-            &laws,
+            &Laws::<F>::new(&self.laws, bodies, states),
             (force, torque),
             &mut self.counters,
             self.ledger.as_mut().map(WorkLedger::loads),
             self.history.as_mut(),
             false,
             workers,
-        );
-        if let Some(l) = &mut self.ledger {
-            l.account(bodies, states, force);
-        }
+        )
     }
 
     /// The kernels' geometry of the bodies at `states` and each body's
@@ -323,18 +358,18 @@ impl ContactStage {
 /// measuring build that replays recorded answers, with those
 /// (`replay.rs`).
 #[allow(clippy::too_many_arguments)]
-fn candidate_loop(
+fn candidate_loop<F: Keeping>(
     blocks: &mut Blocks,
     list: &mut NeighbourList,
     scene: (&[FibreGeom], &[ColliderKind], &[f32], &[Wall]),
-    laws: &Laws,
+    laws: &Laws<F>,
     loads: (&mut [DVec3], &mut [DVec3]),
     counters: &mut KernelCounters,
     dissipative: Option<Dissipative>,
     history: Option<&mut History>,
     keep_hits: bool,
     workers: usize,
-) -> ContactStats {
+) -> (ContactStats, f64) {
     #[cfg(feature = "replay")]
     if super::replay::active() {
         let kernel = super::replay::Replaying;
@@ -457,7 +492,7 @@ impl ContactStage {
         }
         // (Damped scenes are not decomposed: the ledger sums every body.)
         assert!(self.ledger.is_none(), "an elastic law on MPI ranks");
-        let laws = Laws::new(&self.laws, bodies, states);
+        let laws = Laws::<Frictionless>::new(&self.laws, bodies, states);
         candidate_loop(
             &mut self.blocks,
             list,
@@ -589,13 +624,13 @@ mod tests {
         let mut stats = ContactStats::default();
         let (mut points, mut counters) = (Vec::<ContactPoint>::new(), KernelCounters::default());
         let table = stage.laws.clone();
-        let laws = Laws::new(&table, bodies, states);
+        let laws = Laws::<Frictionless>::new(&table, bodies, states);
         let geoms = stage.geoms.clone();
         let side = |i: usize| Side {
             index: i,
             centre: geoms[i].centre,
         };
-        let mut add = |law: &crate::contact::law::CandidateLaw,
+        let mut add = |law: &crate::contact::law::CandidateLaw<Frictionless>,
                        points: &[ContactPoint],
                        a: usize,
                        b: Option<usize>| {

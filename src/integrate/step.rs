@@ -141,6 +141,7 @@ impl<'s> World<'s> {
         let g = self.scene.gravity.unwrap_or(DVec3::ZERO);
         let mut ledger = Ledger {
             elastic: self.elastic(),
+            spring: self.spring_energy(),
             dissipated: self.dissipated(),
             ..Ledger::default()
         };

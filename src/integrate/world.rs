@@ -139,6 +139,7 @@ impl<'s> World<'s> {
     pub(crate) fn measure(&self) -> Ledger {
         Ledger {
             dissipated: self.dissipated(),
+            spring: self.spring_energy(),
             ..Ledger::measure(
                 &self.scene.bodies,
                 &self.states,
@@ -159,6 +160,13 @@ impl<'s> World<'s> {
     #[inline]
     pub fn dissipated(&self) -> f64 {
         self.contacts.as_ref().map_or(0.0, |c| c.dissipated())
+    }
+
+    /// Energy stored in the contacts' friction springs at `states`, J (0
+    /// without friction).
+    #[inline]
+    pub fn spring_energy(&self) -> f64 {
+        self.contacts.as_ref().map_or(0.0, |c| c.spring_energy())
     }
 
     /// The time of the current step, `step · δt`, s.

@@ -33,6 +33,7 @@ pub struct EnergyCsv {
     every: u64,
     with_contacts: bool,
     with_dissipation: bool,
+    with_spring: bool,
     window: Window,
 }
 
@@ -49,14 +50,23 @@ impl EnergyCsv {
             every,
             with_contacts,
             with_dissipation: false,
+            with_spring: false,
             window: Window::default(),
         }
     }
 
     /// Add the column `e_dissipated` (the ledger's dissipated energy, J),
-    /// last, for scenes that declare damping.
+    /// after the contacts' columns, for scenes that declare damping or
+    /// friction.
     pub fn with_dissipation(mut self, yes: bool) -> Self {
         self.with_dissipation = yes;
+        self
+    }
+
+    /// Add the column `e_spring` (the energy the friction springs hold,
+    /// J), last, for scenes that declare friction.
+    pub fn with_spring(mut self, yes: bool) -> Self {
+        self.with_spring = yes;
         self
     }
 }
@@ -64,7 +74,8 @@ impl EnergyCsv {
 /// Every run writes `energy.csv` (registered in [`super::OUTPUTS`]).
 pub fn open(o: &super::Opening) -> Option<Box<dyn Observer>> {
     let csv = EnergyCsv::new(o.dir, o.every, o.scene.needs_contacts())
-        .with_dissipation(o.scene.damping.is_some());
+        .with_dissipation(o.scene.damping.is_some() || o.scene.friction.is_some())
+        .with_spring(o.scene.friction.is_some());
     Some(Box::new(csv))
 }
 
@@ -80,6 +91,9 @@ impl Observer for EnergyCsv {
         }
         if self.with_dissipation {
             cols.push("e_dissipated");
+        }
+        if self.with_spring {
+            cols.push("e_spring");
         }
         self.file.create(&cols)
     }
@@ -108,6 +122,7 @@ impl Observer for EnergyCsv {
         let touching = v.world.contact_stats().unwrap_or_default().touching as u64;
         let with_contacts = self.with_contacts;
         let dissipated = self.with_dissipation.then_some(l.dissipated);
+        let spring = self.with_spring.then_some(l.spring);
         let mut r = self.file.row()?;
         r.u(v.world.step)
             .f(v.world.time())
@@ -125,6 +140,9 @@ impl Observer for EnergyCsv {
         }
         if let Some(d) = dissipated {
             r.f(d);
+        }
+        if let Some(s) = spring {
+            r.f(s);
         }
         r.end();
         self.file.rows_done()?;

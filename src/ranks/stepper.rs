@@ -482,6 +482,8 @@ impl<'c> RankStep<'c> {
             rotation: out[2],
             elastic: out[3],
             dissipated: w.dissipated(),
+            // (Frictional scenes are not decomposed.)
+            spring: 0.0,
         };
         if let Some(stage) = &mut w.contacts {
             stage.stats = ContactStats {

@@ -27,10 +27,40 @@ mod table;
 
 pub(crate) use table::{body_law, body_wall_law, LawTable};
 
-use super::tangential::{step_spring, Tangential};
+use super::tangential::{spring_energy, step_spring, Tangential};
 use super::{ContactPoint, HertzLaw};
 use crate::body::{Body, BodyState};
 use glam::DVec3;
+use std::marker::PhantomData;
+
+/// Whether a scene's laws keep a [`Record`] per contact (friction's
+/// spring): a type chosen once per run, [`Frictionless`] or
+/// [`Frictional`], as the candidate loop's [`PairKernel`] is. The law and
+/// the loop are compiled for each, so a frictionless scene's loop has no
+/// history lookup, no record write and no tangential branch: it pays
+/// nothing for friction.
+///
+/// [`PairKernel`]: super::blocks::PairKernel
+pub(crate) trait Keeping: Copy + Send + Sync + 'static {
+    /// The laws keep a record per contact.
+    const RECORDS: bool;
+}
+
+/// Laws without a tangential part: no record per contact.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Frictionless;
+
+impl Keeping for Frictionless {
+    const RECORDS: bool = false;
+}
+
+/// Laws with Coulomb friction: a record (the spring) per contact.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Frictional;
+
+impl Keeping for Frictional {
+    const RECORDS: bool = true;
+}
 
 /// A load on a candidate's two bodies: a force on A (B gets minus it) and
 /// the torques about each body's own centre (A's added, B's subtracted;
@@ -76,6 +106,10 @@ pub(crate) struct PointLoad {
     /// The non-conservative part of `total` (the damping; a tangential
     /// law's force alike), for the ledger; `None` for a law that has none.
     pub dissipative: Option<Wrench>,
+    /// Energy stored in the point's tangential spring after this
+    /// computation, `½ k_t |ξ|²` with this computation's `k_t`, J (0
+    /// without friction).
+    pub spring: f64,
 }
 
 /// What the law keeps of one contact point between steps, carried by the
@@ -132,56 +166,75 @@ impl<'a> Motion<'a> {
 
 /// The laws of one force computation: the table of the contact kinds'
 /// constants and, when the scene's law depends on velocities, the bodies'
-/// motion at this computation.
+/// motion at this computation; `F` says whether they keep records
+/// ([`Keeping`]: the table's friction, chosen once).
 #[derive(Clone, Copy)]
-pub(crate) struct Laws<'a> {
+pub(crate) struct Laws<'a, F> {
     table: &'a LawTable,
     motion: Option<Motion<'a>>,
+    keeping: PhantomData<F>,
 }
 
-impl<'a> Laws<'a> {
+impl<'a, F: Keeping> Laws<'a, F> {
     /// The laws of `table` at the motion `bodies`/`states` (read only if
-    /// the table's laws depend on velocities).
+    /// the table's laws depend on velocities); `F` must be the table's
+    /// [`LawTable::keeps_history`].
     pub(crate) fn new(table: &'a LawTable, bodies: &'a [Body], states: &'a [BodyState]) -> Self {
+        assert_eq!(
+            F::RECORDS,
+            table.keeps_history(),
+            "the laws' records as their table's friction"
+        );
         Laws {
             table,
             motion: table.reads_motion().then(|| Motion::new(bodies, states)),
+            keeping: PhantomData,
         }
     }
 
     /// The law of body `a` against a wall.
     #[inline(always)]
-    pub(crate) fn wall(&self, a: Side) -> CandidateLaw<'a> {
+    pub(crate) fn wall(&self, a: Side) -> CandidateLaw<'a, F> {
         let hertz = *self.table.wall(a.index);
         let nc = self.motion.map(|motion| NonConservative {
             alpha: self.table.alpha_wall(),
             root_mk: (motion.reduced_mass(&a, None) * hertz.stiffness()).sqrt(),
             motion,
-            tangential: self.table.tangential_wall(a.index),
+            tangential: if F::RECORDS {
+                self.table.tangential_wall(a.index)
+            } else {
+                None
+            },
         });
         CandidateLaw {
             hertz,
             a,
             b: None,
             nc,
+            keeping: PhantomData,
         }
     }
 
     /// The law of body `a` (the pair's first) against body `b`.
     #[inline(always)]
-    pub(crate) fn pair(&self, a: Side, b: Side) -> CandidateLaw<'a> {
+    pub(crate) fn pair(&self, a: Side, b: Side) -> CandidateLaw<'a, F> {
         let hertz = self.table.pair(a.index, b.index);
         let nc = self.motion.map(|motion| NonConservative {
             alpha: self.table.alpha_pair(),
             root_mk: (motion.reduced_mass(&a, Some(&b)) * hertz.stiffness()).sqrt(),
             motion,
-            tangential: self.table.tangential_pair(a.index, b.index),
+            tangential: if F::RECORDS {
+                self.table.tangential_pair(a.index, b.index)
+            } else {
+                None
+            },
         });
         CandidateLaw {
             hertz,
             a,
             b: Some(b),
             nc,
+            keeping: PhantomData,
         }
     }
 }
@@ -201,19 +254,20 @@ struct NonConservative<'a> {
 
 /// The law of one candidate (its kinds' constants, its two sides).
 #[derive(Clone, Copy)]
-pub(crate) struct CandidateLaw<'a> {
+pub(crate) struct CandidateLaw<'a, F> {
     hertz: HertzLaw,
     a: Side,
     b: Option<Side>,
     nc: Option<NonConservative<'a>>,
+    keeping: PhantomData<F>,
 }
 
-impl CandidateLaw<'_> {
+impl<F: Keeping> CandidateLaw<'_, F> {
     /// Whether the candidate's contacts keep a [`Record`] (they are
-    /// frictional).
+    /// frictional; never for [`Frictionless`] laws).
     #[inline(always)]
     pub(crate) fn keeps_history(&self) -> bool {
-        self.nc.is_some_and(|nc| nc.tangential.is_some())
+        F::RECORDS && self.nc.is_some_and(|nc| nc.tangential.is_some())
     }
 
     /// The loads of contact point `c` of this candidate, with the
@@ -236,11 +290,13 @@ impl CandidateLaw<'_> {
             let rate = -c.normal.dot(rel);
             let f_d = c.weight * nc.alpha * nc.root_mk * c.overlap.sqrt().sqrt() * rate;
             f_n += f_d;
-            let Some((t, dt)) = &nc.tangential else {
+            let tangential = if F::RECORDS { nc.tangential } else { None };
+            let Some((t, dt)) = &tangential else {
                 return PointLoad {
                     total: Wrench::at(f_n * c.normal, c.point, Some(-u * c.weight_grad), ca, cb),
                     elastic: c.weight * u,
                     dissipative: Some(Wrench::at(f_d * c.normal, c.point, None, ca, cb)),
+                    spring: 0.0,
                 };
             };
             // Tangential: the spring of `tangential.rs`, weighted as the
@@ -265,12 +321,14 @@ impl CandidateLaw<'_> {
                 total: Wrench::at(f_n * c.normal + f_t, c.point, couple, ca, cb),
                 elastic: c.weight * u,
                 dissipative: Some(Wrench::at(f_d * c.normal + f_t, c.point, None, ca, cb)),
+                spring: spring_energy(record.xi, k_t),
             };
         }
         PointLoad {
             total: Wrench::at(f_n * c.normal, c.point, Some(-u * c.weight_grad), ca, cb),
             elastic: c.weight * u,
             dissipative: None,
+            spring: 0.0,
         }
     }
 }
