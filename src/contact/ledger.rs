@@ -7,11 +7,21 @@
 //!
 //! **Work.** A force `D_k` computed at step k acts in two half-kicks
 //! around `v_k`, so its exact translational work is `δt D_k·v_k`, `v_k =
-//! v_{k−½} + (δt/2)(F_k/m + g)` (the two half-kicks use the same force;
-//! rotation: `δt τ_k·ω`). The ledger at step k holds every earlier stage's
-//! work and the closing half-kick's share of stage k's; so `E +
-//! E_dissipated` closes as well as the elastic budget does for
-//! translation.
+//! v_{k−½} + (δt/2)(F_k/m + g)` (the two half-kicks use the same force).
+//! Rotation alike: a torque `T_k` does `δt T_k·ω_k`, `ω_k` the world
+//! angular velocity after the closing half-kick of the total torque `τ_k`,
+//! `ω_k = ω_{k−½} + (δt/2) q (I⁻¹ (q* τ_k q − ω_b × I ω_b))` (Euler's
+//! equations, Eq. 4, over the half step; the rotators' own kicks agree to
+//! higher order). Taking `ω_{k−½}` instead would miss `(δt/2) T_k·Δω` a
+//! step: nothing for central loads on a sphere, but a steady first-order
+//! bias under friction, whose torques spin the bodies up. Frictionless
+//! laws keep the half-step `ω_{k−½}` (and their bits): their only torques
+//! are the normal damping's lever arms on fibres; on a damped settled bed
+//! the bias is well below the budget's error, and the half kick would
+//! cost every damped step (docs/performance.md). The ledger at
+//! step k holds every earlier stage's work and the closing half-kick's
+//! share of stage k's; so `E + E_dissipated` closes as well as the
+//! elastic budget does.
 //!
 //! **Checkpoint.** Between steps a stage with non-conservative loads
 //! carries, beyond the states, its last total force and torque per body
@@ -38,13 +48,17 @@ pub(crate) struct WorkLedger {
     done: f64,
     /// Whether the next computation is the first (step 0: full-step velocities).
     first: bool,
+    /// Whether a torque's work is taken at `ω_k` (frictional laws) rather
+    /// than at `ω_{k−½}` (module docs).
+    spin_kick: bool,
     /// Dissipated energy at the state of the last computation, J.
     pub(crate) dissipated: f64,
 }
 
 impl WorkLedger {
-    /// The ledger of `n` bodies stepped by `dt` under `gravity`.
-    pub(crate) fn new(n: usize, dt: f64, gravity: Option<DVec3>) -> Self {
+    /// The ledger of `n` bodies stepped by `dt` under `gravity`; with
+    /// `spin_kick` (frictional laws) a torque's work is taken at `ω_k`.
+    pub(crate) fn new(n: usize, dt: f64, gravity: Option<DVec3>, spin_kick: bool) -> Self {
         WorkLedger {
             dt,
             gravity: gravity.unwrap_or(DVec3::ZERO),
@@ -52,6 +66,7 @@ impl WorkLedger {
             torque: vec![DVec3::ZERO; n],
             done: 0.0,
             first: true,
+            spin_kick,
             dissipated: 0.0,
         }
     }
@@ -79,35 +94,73 @@ impl WorkLedger {
         self.first = false;
     }
 
-    /// Close the computation: `force` holds the stage's total contact force
-    /// per body. The ledger's share and the full work (module docs).
-    pub(crate) fn account(&mut self, bodies: &[Body], states: &[BodyState], force: &[DVec3]) {
-        let (dt, g) = (self.dt, self.gravity);
-        let (mut closing, mut full) = (0.0, 0.0);
-        for (((b, s), (&d, &dtau)), &f) in bodies
-            .iter()
-            .zip(states)
-            .zip(self.force.iter().zip(&self.torque))
-            .zip(force)
-        {
-            if d == DVec3::ZERO && dtau == DVec3::ZERO {
-                continue;
-            }
-            let spin = dtau.dot(s.rot.q * s.rot.omega_b);
-            let kick = 0.5 * dt * (f * b.inv_mass + g);
-            if self.first {
-                // Step 0: `v` is v₀; only the opening half-kick is to come.
-                full += 0.25 * dt * d.dot(2.0 * s.v + kick) + 0.5 * dt * spin;
-            } else {
-                let v_full = s.v + kick;
-                closing += 0.25 * dt * d.dot(s.v + v_full) + 0.5 * dt * spin;
-                full += dt * (d.dot(v_full) + spin);
-            }
-        }
+    /// Close the computation: `force` and `torque` hold the stage's total
+    /// contact force and torque (world) per body. The ledger's share and
+    /// the full work (module docs).
+    pub(crate) fn account(
+        &mut self,
+        bodies: &[Body],
+        states: &[BodyState],
+        loads: (&[DVec3], &[DVec3]),
+    ) {
+        let (closing, full) = if self.spin_kick {
+            self.work::<true>(bodies, states, loads)
+        } else {
+            self.work::<false>(bodies, states, loads)
+        };
         // Work of the non-conservative loads is negative; the ledger keeps
         // it positive.
         self.dissipated = self.done - closing;
         self.done -= full;
         self.first = false;
+    }
+
+    /// The closing half-kick's share and the full work of this
+    /// computation's loads, the torques' at `ω_k` (`KICK`) or at
+    /// `ω_{k−½}`.
+    #[inline(always)]
+    fn work<const KICK: bool>(
+        &self,
+        bodies: &[Body],
+        states: &[BodyState],
+        (force, torque): (&[DVec3], &[DVec3]),
+    ) -> (f64, f64) {
+        let (dt, g) = (self.dt, self.gravity);
+        let (mut closing, mut full) = (0.0, 0.0);
+        for ((((b, s), (&d, &dtau)), &f), &tau) in bodies
+            .iter()
+            .zip(states)
+            .zip(self.force.iter().zip(&self.torque))
+            .zip(force)
+            .zip(torque)
+        {
+            if d == DVec3::ZERO && dtau == DVec3::ZERO {
+                continue;
+            }
+            let kick = 0.5 * dt * (f * b.inv_mass + g);
+            let (q, omega_b) = (s.rot.q, s.rot.omega_b);
+            let spin = dtau.dot(q * omega_b);
+            if !KICK {
+                if self.first {
+                    // Step 0: `v` is v₀; only the opening half-kick is to come.
+                    full += 0.25 * dt * d.dot(2.0 * s.v + kick) + 0.5 * dt * spin;
+                } else {
+                    let v_full = s.v + kick;
+                    closing += 0.25 * dt * d.dot(s.v + v_full) + 0.5 * dt * spin;
+                    full += dt * (d.dot(v_full) + spin);
+                }
+                continue;
+            }
+            let dw = 0.5 * dt * b.inertia.angular_acceleration_world(q, omega_b, tau);
+            let spin_full = spin + dtau.dot(q * dw);
+            if self.first {
+                full += 0.25 * dt * (d.dot(2.0 * s.v + kick) + spin + spin_full);
+            } else {
+                let v_full = s.v + kick;
+                closing += 0.25 * dt * (d.dot(s.v + v_full) + spin + spin_full);
+                full += dt * (d.dot(v_full) + spin_full);
+            }
+        }
+        (closing, full)
     }
 }

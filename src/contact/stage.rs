@@ -153,7 +153,7 @@ impl ContactStage {
         self.ledger = self
             .laws
             .reads_motion()
-            .then(|| WorkLedger::new(n, dt, gravity));
+            .then(|| WorkLedger::new(n, dt, gravity, self.laws.keeps_history()));
         self
     }
 
@@ -273,7 +273,7 @@ impl ContactStage {
             self.candidates::<Frictionless>(bodies, states, force, torque, workers)
         };
         if let Some(l) = &mut self.ledger {
-            l.account(bodies, states, force);
+            l.account(bodies, states, (force, torque));
         }
     }
 
@@ -678,7 +678,7 @@ mod tests {
             let (f, t) = l.loads();
             f.copy_from_slice(&df);
             t.copy_from_slice(&dt);
-            l.account(bodies, states, &force);
+            l.account(bodies, states, (&force, &torque));
             l.dissipated
         });
         let bits = force

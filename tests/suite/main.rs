@@ -21,6 +21,7 @@ mod defaults;
 mod first_hour;
 mod free_flight;
 mod friction;
+mod friction_energy;
 mod guards;
 mod habits;
 mod integrity;
