@@ -152,6 +152,10 @@ pub(crate) struct Blocks {
     /// The kernels' output on one worker (the pool's threads keep their
     /// own, [`BUF`]).
     buf: Vec<ContactPoint>,
+    /// The history store before the last one, emptied: the next
+    /// computation writes its records there, so a settled frictional
+    /// scene keeps its records without allocating.
+    spare: History,
 }
 
 impl Default for Blocks {
@@ -162,6 +166,7 @@ impl Default for Blocks {
             ring: RING,
             checked: 0,
             buf: vec![],
+            spare: History::default(),
         }
     }
 }
@@ -941,7 +946,7 @@ impl Blocks {
             dissipative,
             stats: ContactStats::default(),
             counters,
-            kept: vec![],
+            kept: std::mem::take(&mut self.spare.walls),
             spring: 0.0,
         };
         let (old_walls, old_pairs) = match &recorded {
@@ -968,7 +973,7 @@ impl Blocks {
                 sums.in_order(&walls, &list.walls, memory, ring, size, workers, buf);
             }
         }
-        let kept_walls = std::mem::take(&mut sums.kept);
+        let kept_walls = std::mem::replace(&mut sums.kept, std::mem::take(&mut self.spare.pairs));
         if !list.pairs.is_empty() {
             kernel.computation();
             let pairs = PairList {
@@ -985,9 +990,12 @@ impl Blocks {
                 sums.in_order(&pairs, &list.pairs, memory, ring, size, workers, buf);
             }
         }
-        if let Some((h, _)) = recorded {
+        if let Some((h, mut old)) = recorded {
             h.walls = sorted(kept_walls);
             h.pairs = sorted(sums.kept);
+            old.walls.clear();
+            old.pairs.clear();
+            self.spare = old;
         }
         (sums.stats, sums.spring)
     }

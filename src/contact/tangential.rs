@@ -84,6 +84,7 @@ pub struct TangentialForce {
 /// Coulomb cap `cap = μ F_n ≥ 0`: steps 1–4 of the module documentation.
 /// A spring along the new normal (a contact whose plane turned by a right
 /// angle in one step) has no direction in the new plane and is dropped.
+#[inline]
 pub fn step_spring(
     xi: &mut DVec3,
     n: DVec3,
@@ -93,25 +94,27 @@ pub fn step_spring(
     eta_t: f64,
     cap: f64,
 ) -> TangentialForce {
-    let length = xi.length();
+    // (Lengths compared and scaled squared: one square root where two
+    // would do the same.)
+    let length2 = xi.length_squared();
     let turned = *xi - n.dot(*xi) * n;
-    let across = turned.length();
-    *xi = if across > 0.0 {
-        turned * (length / across)
+    let across2 = turned.length_squared();
+    *xi = if across2 > 0.0 {
+        turned * (length2 / across2).sqrt()
     } else {
         DVec3::ZERO
     };
     let v_t = v - n.dot(v) * n;
     *xi += v_t * dt;
     let trial = -k_t * *xi - eta_t * v_t;
-    let size = trial.length();
-    if size <= cap {
+    let size2 = trial.length_squared();
+    if size2 <= cap * cap {
         return TangentialForce {
             force: trial,
             sliding: false,
         };
     }
-    let force = trial * (cap / size);
+    let force = trial * (cap / size2.sqrt());
     *xi = -(force + eta_t * v_t) / k_t;
     TangentialForce {
         force,
