@@ -169,9 +169,10 @@ impl ContactStage {
             .map_or(0.0, |l| l.dissipated - self.spring)
     }
 
-    /// Energy stored in the tangential springs of the touching contacts at
+    /// Energy held by the tangential springs of the touching contacts at
     /// the last computation, `Σ ½ k_t |ξ|²` with that computation's `k_t`,
-    /// J (0 without friction).
+    /// each counted up to its Coulomb cap (`tangential::spring_energy`), J
+    /// (0 without friction).
     #[inline]
     pub fn spring_energy(&self) -> f64 {
         self.spring

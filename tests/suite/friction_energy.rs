@@ -119,3 +119,39 @@ fn the_spring_energy_is_booked_apart_and_the_budget_closes() {
         "full budget error {budget:e} %, frictionless {budget_smooth:e} %"
     );
 }
+
+/// A sphere (D = 1 cm) launched at 0.5 m/s along a floor of μ = 0.3 with
+/// a restitution of 0.3 slides until `t* = 2 v₀/(7 μ g)` (48.5 ms). Once
+/// its start's bounces are damped (from 20 ms on) it rests on the floor at
+/// the Hertz overlap `m g = k δ^{3/2}` and its spring holds the cap,
+/// `e_spring = (μ m g)²/(2 k_t)`, `k_t = 8 G* √(R δ)`, to 1e-6 relative;
+/// the damping's part of the sliding spring (`ξ = −(f + η_t v_t)/k_t`,
+/// orders of magnitude longer) is not counted (docs/contacts.md).
+#[test]
+fn a_damped_sliding_spring_holds_the_cap_energy() {
+    let dir = tempfile::tempdir().unwrap();
+    let (d, mu, g) = (0.01, 0.3, 9.81);
+    let (e_s, nu_s, e_w, nu_w) = (5e7, 0.35, 5e7, 0.23);
+    let text = format!(
+        "[simulation]\ndt = 1e-6\nt_end = 0.045\n[world]\ngravity = [0.0, 0.0, -{g}]\n[contact]\nrestitution = 0.3\nfriction = {mu}\n[box]\nmin = [-0.2, -0.2, 0.0]\nmax = [0.2, 0.2, 0.4]\nyoung = {e_w}\npoisson = {nu_w}\n[material.m]\ndensity = 1100.0\nyoung = {e_s}\npoisson = {nu_s}\n[[body]]\nshape = \"sphere\"\nmaterial = \"m\"\ndiameter = {d}\nposition = [-0.15, 0.0, {}]\nvelocity = [0.5, 0.0, 0.0]\n",
+        d / 2.0
+    );
+    run(dir.path(), "slide", &text);
+    let (header, rows) = energy(dir.path(), "slide");
+    let col = |name: &str| header.iter().position(|h| h == name).expect(name);
+    let (t, spring) = (col("t"), col("e_spring"));
+    let r = d / 2.0;
+    let m = 1100.0 * std::f64::consts::PI * d * d * d / 6.0;
+    let e_star = 1.0 / ((1.0 - nu_s * nu_s) / e_s + (1.0 - nu_w * nu_w) / e_w);
+    let shear = |e: f64, nu: f64| e / (2.0 * (1.0 + nu));
+    let g_star = 1.0 / ((2.0 - nu_s) / shear(e_s, nu_s) + (2.0 - nu_w) / shear(e_w, nu_w));
+    let overlap = (m * g / (4.0 / 3.0 * e_star * r.sqrt())).powf(2.0 / 3.0);
+    let k_t = 8.0 * g_star * (r * overlap).sqrt();
+    let held = (mu * m * g).powi(2) / (2.0 * k_t);
+    let mut worst = 0.0f64;
+    for row in rows.iter().filter(|row| row[t] > 0.02) {
+        worst = worst.max((row[spring] / held - 1.0).abs());
+    }
+    eprintln!("sliding spring: e_spring off (μ m g)²/(2 k_t) = {held:e} J by {worst:e}");
+    assert!(worst < 1e-6, "e_spring off {held:e} J by {worst:e}");
+}
