@@ -50,6 +50,25 @@
 //! [`END_FACE_DOME_SIN`]). The period `2π √(I_t / (F (ρ − L/2)))` at the
 //! peak Hertz force of the worst impact is often shorter than the collision
 //! itself, so it bounds δt too.
+//!
+//! **Tangential mode (friction).** A sticking contact holds the two
+//! material points on a tangential spring `k_t = 8 G* a` (Mindlin, as the
+//! law: `contact/tangential.rs`), `a = √(R* δ)`. Against its linearised
+//! normal stiffness `S_n = dF/dδ = 2 E* a` that is `k_t/S_n = 4 G*/E*`,
+//! `2(1−ν)/(2−ν)` for equal materials (0.79 at ν = 0.35). The spring
+//! moves the point along a tangent `t` against the effective mass
+//! `1/m_t = 1/m + (r×t)·I⁻¹(r×t)`, smaller than the normal one: a
+//! tangential force at a fibre's end turns it about a transverse axis
+//! (lever L/2, `I⊥ = m(3r² + L²)/12`) *and* spins it about its axis
+//! (lever r, `I_ax = m r²/2`), which no normal force does
+//! ([`min_tangential_mass`]). The sticking contact oscillates with the
+//! half period `t_t = π √(m_t/k_t)`, taken at the deepest overlap of the
+//! worst impact (where `k_t` is largest: the tangent stiffness, as the
+//! face tilt takes the peak force), and `t_t` is held to the same
+//! [`STEPS_PER_COLLISION`] and [`MIN_STEPS_PER_COLLISION`] as the Hertz
+//! collision, which is itself about one half period of the normal
+//! oscillation. Only pairs with μ > 0 have the mode: a frictionless scene's
+//! advice is the one without it.
 
 mod report;
 pub use report::CheckReport;
@@ -58,6 +77,7 @@ use crate::body::{Body, Material, Shape};
 use crate::contact::fibre_fibre::END_FACE_DOME_SIN;
 use crate::contact::fibre_wall::FACE_BLEND_SIN;
 use crate::contact::law::{body_law, body_wall_law};
+use crate::contact::tangential::Tangential;
 use crate::contact::HertzLaw;
 use crate::scenario::Scene;
 
@@ -89,6 +109,10 @@ pub struct PairAdvice {
     pub rayleigh_time: f64,
     /// Period of a face rocking on the contact at the peak force (module docs).
     pub tilt_period: f64,
+    /// Half period of the sticking tangential oscillation at the deepest
+    /// overlap (module docs), s; `None` for a frictionless pair.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tangential_time: Option<f64>,
 }
 
 #[derive(Debug, Clone, serde::Serialize)]
@@ -113,6 +137,16 @@ pub struct Advice {
     pub hard_limit_dt: Option<f64>,
     /// What `run` and `check` print as warnings.
     pub warnings: Vec<String>,
+}
+
+impl Advice {
+    /// What [`Advice::hard_limit_dt`] resolves, for the refusal of a larger δt.
+    pub fn limited_by(&self) -> &'static str {
+        match self.pairs.iter().any(|p| p.tangential_time.is_some()) {
+            true => "the shortest Hertz collision, face-tilt period or sticking tangential (friction) half period",
+            false => "the shortest Hertz collision or face-tilt period",
+        }
+    }
 }
 
 /// Rayleigh time of a fibre or a sphere of material `m`, `r` its radius:
@@ -148,6 +182,56 @@ pub fn min_effective_mass(b: &Body) -> (f64, f64) {
         // Contact-free only (the scenario refuses it elsewhere): never asked.
         Shape::Rigid { semi_axes } => (b.mass, semi_axes.max_element()),
     }
+}
+
+/// Smallest effective mass `1/(1/m + (r×t)·I⁻¹(r×t))` of a body against a
+/// tangential force at a surface point `r` along a tangent `t` (module docs,
+/// "Tangential mode").
+///
+/// Fibre (axis body x, `I⊥` about y and z, `I_ax` about x): write `r×t`
+/// as its axial part `a` and its transverse part `b`. A surface point
+/// lies at most `D/2` from the axis, so `|a| ≤ D/2`, and `|a|² + |b|² =
+/// |r×t|² ≤ |r|² ≤ (L/2)² + (D/2)²`. `a²/I_ax + b²/I⊥` is linear in `a²`
+/// on that range, so its largest value is at an end:
+/// `((L/2)² + (D/2)²)/I⊥` (`a = 0`) or `(L/2)²/I⊥ + (D/2)²/I_ax`
+/// (`|a| = D/2`: the end of the side, pushed along the tangent normal to
+/// the axis; the larger one for `L > √3 D/2`, where `I⊥ > I_ax`).
+/// Sphere: `|r×t| ≤ R`, `I = (2/5) m R²`, so `m_t = 2m/7`.
+pub fn min_tangential_mass(b: &Body) -> f64 {
+    match b.shape {
+        Shape::Fibre { diameter, length } => {
+            let (h, r) = (0.5 * length, 0.5 * diameter);
+            let (i_ax, i_t) = (b.inertia.principal.x, b.inertia.principal.y);
+            let turn = ((h * h + r * r) / i_t).max(h * h / i_t + r * r / i_ax);
+            1.0 / (1.0 / b.mass + turn)
+        }
+        Shape::Sphere { diameter } => {
+            let r = 0.5 * diameter;
+            1.0 / (1.0 / b.mass + r * r / b.inertia.principal.x)
+        }
+        // Contact-free only: never asked.
+        Shape::Rigid { .. } => b.mass,
+    }
+}
+
+/// Half period `π √(m_t/k_t)` of the sticking tangential oscillation
+/// (module docs) of a contact with Hertz law `law` and shear law `tan`,
+/// hit by an impact of normal reduced mass `m` at speed `v`, the bodies'
+/// tangential effective mass `m_t`. `None` when μ = 0.
+fn tangential_time(
+    law: &HertzLaw,
+    tan: &crate::contact::tangential::Tangential,
+    m: f64,
+    v: f64,
+    m_t: f64,
+) -> Option<f64> {
+    if tan.mu <= 0.0 {
+        return None;
+    }
+    // Deepest overlap of the impact, as in `tilt_period`.
+    let depth = (1.25 * m * v * v / law.stiffness()).powf(0.4);
+    let k_t = tan.stiffness(law.r_star, depth);
+    Some(std::f64::consts::PI * (m_t / k_t).sqrt())
 }
 
 /// Period of the face-tilt mode of fibre `b` (module docs) under the peak
@@ -320,6 +404,10 @@ pub fn advise_with(scene: &Scene, impact_speed: Option<f64>) -> Advice {
             let d = b.shape.diameter();
             let law = body_wall_law(b, m, w);
             let rho = 4.0 * 0.5 * d / FACE_BLEND_SIN;
+            let tangential = scene.friction.and_then(|f| {
+                let tan = Tangential::new(f.wall, m.young, m.poisson, w.young, w.poisson);
+                tangential_time(&law, &tan, m_eff(b), v, min_tangential_mass(b))
+            });
             pairs.push(PairAdvice {
                 pair: format!("{}–wall", name(i)),
                 reduced_mass: m_eff(b),
@@ -328,6 +416,7 @@ pub fn advise_with(scene: &Scene, impact_speed: Option<f64>) -> Advice {
                 contact_time: law.contact_time(m_eff(b), v),
                 rayleigh_time: rayleigh_time(b, m),
                 tilt_period: tilt_period(b, &law, m_eff(b), v, rho),
+                tangential_time: tangential,
             });
         }
     }
@@ -347,6 +436,11 @@ pub fn advise_with(scene: &Scene, impact_speed: Option<f64>) -> Advice {
                     Some(v) => v,
                     None => vi + vj,
                 };
+                let tangential = scene.friction.and_then(|f| {
+                    let tan = Tangential::new(f.body, ma.young, ma.poisson, mb.young, mb.poisson);
+                    let m_t = 1.0 / (1.0 / min_tangential_mass(a) + 1.0 / min_tangential_mass(b));
+                    tangential_time(&law, &tan, m, v, m_t)
+                });
                 pairs.push(PairAdvice {
                     pair: format!(
                         "{}–{}",
@@ -371,6 +465,7 @@ pub fn advise_with(scene: &Scene, impact_speed: Option<f64>) -> Advice {
                         })
                         .into_iter()
                         .fold(f64::INFINITY, f64::min),
+                    tangential_time: tangential,
                 });
             }
         }
@@ -387,19 +482,32 @@ pub fn advise_with(scene: &Scene, impact_speed: Option<f64>) -> Advice {
         .iter()
         .map(|p| p.tilt_period)
         .fold(f64::INFINITY, f64::min);
+    let t_t = pairs
+        .iter()
+        .filter_map(|p| p.tangential_time)
+        .fold(f64::INFINITY, f64::min);
     let recommended = (t_c / STEPS_PER_COLLISION)
         .min(RAYLEIGH_FRACTION * t_r)
-        .min(t_tilt / STEPS_PER_TILT_PERIOD);
+        .min(t_tilt / STEPS_PER_TILT_PERIOD)
+        .min(t_t / STEPS_PER_COLLISION);
     let dt = scene.sim.dt();
     if dt > recommended {
+        // A frictionless scene has no tangential term (t_t infinite).
+        let tangential = match t_t.is_finite() {
+            true => format!(
+                "; the fastest sticking tangential oscillation (friction), half period {t_t:.3e} s, {:.1}",
+                t_t / dt
+            ),
+            false => String::new(),
+        };
         warnings.push(format!(
-            "dt = {dt:e} s is above the recommended {recommended:.3e} s (the shortest Hertz collision, {t_c:.3e} s, gets {:.1} steps; the fastest face tilt, {t_tilt:.3e} s, {:.1}; 0.2 x Rayleigh time = {:.3e} s)",
+            "dt = {dt:e} s is above the recommended {recommended:.3e} s (the shortest Hertz collision, {t_c:.3e} s, gets {:.1} steps; the fastest face tilt, {t_tilt:.3e} s, {:.1}{tangential}; 0.2 x Rayleigh time = {:.3e} s)",
             t_c / dt,
             t_tilt / dt,
             RAYLEIGH_FRACTION * t_r
         ));
     }
-    let unresolved = t_c.min(t_tilt);
+    let unresolved = t_c.min(t_tilt).min(t_t);
     Advice {
         available_energy: e,
         impact_speed,

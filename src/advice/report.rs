@@ -198,34 +198,40 @@ impl fmt::Display for CheckReport<'_> {
         )?;
         if !a.pairs.is_empty() {
             writeln!(f, "\ncontact pairs (one row per kind of pair: bodies of the same shape and material are one kind, named by its first body):")?;
+            // The tangential column only where friction declares the mode.
+            let frictional = a.pairs.iter().any(|p| p.tangential_time.is_some());
             let rows: Vec<Vec<String>> = a
                 .pairs
                 .iter()
                 .map(|p| {
-                    vec![
+                    let mut row = vec![
                         pair_label(&p.pair),
                         format!("{:.4e}", p.reduced_mass),
                         format!("{:.4e}", p.translational_mass),
                         format!("{:.4e}", p.v_max),
                         format!("{:.4e}", p.contact_time),
                         format!("{:.4e}", p.tilt_period),
-                        format!("{:.4e}", p.rayleigh_time),
-                    ]
+                    ];
+                    if frictional {
+                        row.push(p.tangential_time.map_or("–".into(), |t| format!("{t:.4e}")));
+                    }
+                    row.push(format!("{:.4e}", p.rayleigh_time));
+                    row
                 })
                 .collect();
-            table(
-                f,
-                &[
-                    "pair",
-                    "m* (kg)",
-                    "m_trans (kg)",
-                    "v_max (m/s)",
-                    "t_Hertz (s)",
-                    "t_tilt (s)",
-                    "t_Rayleigh (s)",
-                ],
-                &rows,
-            )?;
+            let mut header = vec![
+                "pair",
+                "m* (kg)",
+                "m_trans (kg)",
+                "v_max (m/s)",
+                "t_Hertz (s)",
+                "t_tilt (s)",
+            ];
+            if frictional {
+                header.push("t_tangential (s)");
+            }
+            header.push("t_Rayleigh (s)");
+            table(f, &header, &rows)?;
             match a.impact_speed {
                 Some(v) => writeln!(f, "  impact speed given: v_max = {v:e} m/s for every pair (--impact-speed)")?,
                 None => writeln!(f, "  impact speeds bounded per body: E_i = its kinetic + rotational energy + its fall to the box floor; largest E_avail = {:.4e} J", a.available_energy)?,
@@ -237,8 +243,14 @@ impl fmt::Display for CheckReport<'_> {
             writeln!(f, "  |r x n| = max(D/2, L/2) (a fibre's end hit along its side normal); a pair sums 1/m_eff of its bodies")?;
             writeln!(f, "  and their bounds v_max = sqrt(2 E_i / m_eff) (largest of the kind); m_trans = the translational mass alone;")?;
             writeln!(f, "  t_tilt = period of an end face rocking on the contact under the peak force of that impact")?;
+            if frictional {
+                writeln!(f, "  t_tangential = half period pi sqrt(m_t / k_t) of a sticking friction contact: Mindlin's k_t = 8 G* a at the deepest")?;
+                writeln!(f, "  overlap of that impact, m_t the effective mass against a tangential force (a fibre's end turns and spins)")?;
+            }
         }
+        let frictional = a.pairs.iter().any(|p| p.tangential_time.is_some());
         match a.recommended_dt {
+            Some(r) if frictional => writeln!(f, "\nrecommended dt <= {r:.3e} s (shortest collision / 50, fastest face tilt / 50, shortest tangential half period / 50, and 0.2 x Rayleigh time); chosen dt = {:e} s, margin {:.3}x", scene.sim.dt(), r / scene.sim.dt())?,
             Some(r) => writeln!(f, "\nrecommended dt <= {r:.3e} s (shortest collision / 50, fastest face tilt / 50, and 0.2 x Rayleigh time); chosen dt = {:e} s, margin {:.3}x", scene.sim.dt(), r / scene.sim.dt())?,
             None if scene.needs_contacts() && a.torque_bodies > 0 && a.impact_speed.is_none() => writeln!(f, "\nno contact advice: every body that can touch has a prescribed torque, so no impact speed can be bounded; give --impact-speed V")?,
             None => writeln!(f, "\nno contacts to resolve: dt is limited by accuracy only (see `fibresim rotators` for orders)")?,

@@ -28,7 +28,7 @@ Exit codes:
 #[command(
     name = "fibresim",
     version,
-    about = "DEM of frictionless Hertzian cylindrical fibres, for comparing quaternion rotation integrators",
+    about = "DEM of Hertzian cylindrical fibres (and spheres), frictionless or with Coulomb friction, for comparing quaternion rotation integrators",
     after_help = "Exit codes: 0 success, 1 I/O failure mid-run, 2 bad input, 3 run stopped as unstable, 130 interrupted (Ctrl-C). More with --help.",
     after_long_help = EXIT_CODES
 )]
@@ -136,6 +136,12 @@ pub struct GenerateArgs {
     /// Coefficient of restitution of the written scenario, in (0, 1] (1: elastic, no [contact] table).
     #[arg(long, default_value_t = 1.0)]
     pub restitution: f64,
+    /// Coulomb friction coefficient of body-body contacts of the written scenario, >= 0 ([contact] friction; 0: frictionless).
+    #[arg(long, allow_negative_numbers = true)]
+    pub friction: Option<f64>,
+    /// Coulomb friction coefficient of body-wall contacts, >= 0 ([contact] wall_friction) [default: --friction].
+    #[arg(long, allow_negative_numbers = true)]
+    pub wall_friction: Option<f64>,
     /// The scenario's time step, s.
     #[arg(long, default_value_t = 1e-6)]
     pub dt: f64,
@@ -173,6 +179,12 @@ pub struct SettleArgs {
     /// Coefficient of restitution while settling (fibre-fibre and fibre-wall) [default: the scenario's [contact]].
     #[arg(long)]
     pub restitution: Option<f64>,
+    /// Coulomb friction coefficient of body-body contacts, >= 0, while settling and in the written bed [default: the scenario's [contact] friction].
+    #[arg(long, conflicts_with = "resume", allow_negative_numbers = true)]
+    pub friction: Option<f64>,
+    /// Coulomb friction coefficient of body-wall contacts, >= 0 [default: --friction if given, else the scenario's wall_friction].
+    #[arg(long, conflicts_with = "resume", allow_negative_numbers = true)]
+    pub wall_friction: Option<f64>,
     /// Time step while settling, s [default: the scenario's].
     #[arg(long)]
     pub dt: Option<f64>,

@@ -8,6 +8,7 @@ use super::args::{
 };
 use crate::advice::{advise_with, Advice};
 use crate::contact::damping::Restitution;
+use crate::contact::tangential::Friction;
 use crate::error::{Error, Result};
 use crate::generate::{
     place::{Fibres, Placement, Spheres},
@@ -149,7 +150,8 @@ impl RunArgs {
                     &scene.source,
                     "simulation.dt",
                     format!(
-                        "dt = {dt:e} s leaves fewer than 5 steps for the shortest Hertz collision or face-tilt period ({:.3e} s); use dt <= {:.3e} s (see `fibresim check`), or --allow-large-dt to run anyway",
+                        "dt = {dt:e} s leaves fewer than 5 steps for {} ({:.3e} s); use dt <= {:.3e} s (see `fibresim check`), or --allow-large-dt to run anyway",
+                        advice.limited_by(),
                         limit * 5.0,
                         advice.recommended_dt.unwrap_or(limit)
                     ),
@@ -357,6 +359,41 @@ fn restitution_flag(flag: &str, e: f64) -> Result<f64> {
     }
 }
 
+/// A friction flag: a finite number ≥ 0.
+fn friction_flag(flag: &str, mu: f64) -> Result<f64> {
+    if mu.is_finite() && mu >= 0.0 {
+        Ok(mu)
+    } else {
+        Err(Error::bad(
+            "command line",
+            flag,
+            format!("a Coulomb friction coefficient must be a finite number >= 0, got {mu}; give e.g. 0.3 (0 is frictionless)"),
+        ))
+    }
+}
+
+/// The Coulomb coefficients of `--friction` and `--wall-friction` over
+/// `base` (the scene's, or none): `--friction` sets both unless
+/// `--wall-friction` is given, `--wall-friction` alone keeps the body–body
+/// one. `None` when both are 0, as `[contact]` reads them (build.rs).
+fn friction_flags(
+    body: Option<f64>,
+    wall: Option<f64>,
+    base: Option<Friction>,
+) -> Result<Option<Friction>> {
+    let body = body.map(|m| friction_flag("--friction", m)).transpose()?;
+    let wall = wall
+        .map(|m| friction_flag("--wall-friction", m))
+        .transpose()?;
+    if body.is_none() && wall.is_none() {
+        return Ok(base);
+    }
+    // One of the two is given: a given --friction is the walls' default.
+    let body = body.unwrap_or(base.map_or(0.0, |f| f.body));
+    let wall = wall.unwrap_or(body);
+    Ok((body > 0.0 || wall > 0.0).then_some(Friction { body, wall }))
+}
+
 /// A Poisson-ratio flag in (−1, 0.5).
 fn poisson_flag(flag: &str, v: f64) -> Result<f64> {
     if v.is_finite() && v > -1.0 && v < 0.5 {
@@ -550,6 +587,7 @@ impl GenerateArgs {
             // As given (checked by `sim`): steps·δt can print as 3.0000000000000004.
             t_end: self.t_end,
             restitution: (e < 1.0).then_some(Restitution { fibre: e, wall: e }),
+            friction: friction_flags(self.friction, self.wall_friction, None)?,
             out: self.out,
             command,
         })
@@ -713,6 +751,7 @@ impl SettleArgs {
             let e = restitution_flag("--restitution", e)?;
             scene.damping = (e < 1.0).then_some(Restitution { fibre: e, wall: e });
         }
+        scene.friction = friction_flags(self.friction, self.wall_friction, scene.friction)?;
         if scene.damping.is_none() {
             return Err(Error::bad(&scene.source, "contact.restitution", "nothing dissipates, so the bed can never settle; give --restitution E (e.g. 0.3) or [contact] restitution"));
         }
@@ -755,7 +794,7 @@ impl SettleArgs {
         let advice = advise_with(&scene, impact);
         if let Some(limit) = advice.hard_limit_dt {
             if scene.sim.dt() > limit && !self.allow_large_dt {
-                return Err(Error::bad(&scene.source, "--dt", format!("dt = {:e} s leaves fewer than 5 steps for the shortest Hertz collision or face-tilt period; use dt <= {limit:.3e} s, --impact-speed V, or --allow-large-dt", scene.sim.dt())));
+                return Err(Error::bad(&scene.source, "--dt", format!("dt = {:e} s leaves fewer than 5 steps for {}; use dt <= {limit:.3e} s, --impact-speed V, or --allow-large-dt", scene.sim.dt(), advice.limited_by())));
             }
         }
         let write_dt = positive_flag("--write-dt", self.write_dt.unwrap_or(scene.sim.dt()))?;

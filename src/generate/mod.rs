@@ -57,6 +57,8 @@ pub struct GenerateOptions {
     pub t_end: f64,
     /// Declared normal restitution (`None`: elastic).
     pub restitution: Option<Restitution>,
+    /// Declared Coulomb friction (`None`: frictionless).
+    pub friction: Option<crate::contact::tangential::Friction>,
     /// The scenario file to write; the body file is `<stem>_bodies.csv` beside it.
     pub out: PathBuf,
     /// The command line, for the scenario's header.
@@ -181,7 +183,7 @@ pub fn generate(o: &GenerateOptions) -> Result<GenerateReport> {
         walls: Some(&o.walls),
         materials: std::slice::from_ref(&o.material),
         restitution: o.restitution,
-        friction: None,
+        friction: o.friction,
         start_overlap_ratio: None,
         body_file: &body_file
             .file_name()

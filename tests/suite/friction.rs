@@ -382,3 +382,532 @@ fn a_settled_frictional_bed_keeps_its_friction() {
     assert_eq!((f.body, f.wall), (0.4, 0.25));
     assert!(written.damping.is_none());
 }
+
+/// `fibresim generate` with `--friction` (and `--wall-friction`) writes
+/// the keys into the scenario it makes; without them it writes none (the
+/// frictionless scenario); `--wall-friction` defaults to `--friction`.
+#[test]
+fn generate_writes_the_friction_it_is_given() {
+    let dir = tempfile::tempdir().unwrap();
+    let make = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(format!("{name}.toml"));
+        let mut args = vec![
+            "generate",
+            "--n",
+            "4",
+            "--diameter",
+            "0.01",
+            "--length",
+            "0.03",
+            "--box",
+            "0.1,0.1,0.1",
+            "--restitution",
+            "0.5",
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        ok(fibresim(&args));
+        fibresim::scenario::load(&out).expect("the generated scenario loads")
+    };
+    let f = make("both", &["--friction", "0.4", "--wall-friction", "0.2"])
+        .friction
+        .expect("friction written");
+    assert_eq!((f.body, f.wall), (0.4, 0.2));
+    let f = make("one", &["--friction", "0.3"]).friction.unwrap();
+    assert_eq!((f.body, f.wall), (0.3, 0.3));
+    let f = make("wall", &["--wall-friction", "0.3"]).friction.unwrap();
+    assert_eq!((f.body, f.wall), (0.0, 0.3));
+    assert!(make("none", &[]).friction.is_none());
+    assert!(make("zero", &["--friction", "0"]).friction.is_none());
+}
+
+/// `fibresim settle --friction` overrides the scene's coefficients while
+/// settling and in the bed it writes; `--wall-friction` alone keeps the
+/// scene's body–body value.
+#[test]
+fn settle_friction_flags_override_the_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = scene(
+        1e-3,
+        [0.0, 0.0, -G],
+        "restitution = 0.3\nfriction = 0.4\nwall_friction = 0.25",
+        100,
+        &sphere(0.01, 0.0, [0.0; 3]),
+    );
+    let file = dir.path().join("s.toml");
+    std::fs::write(&file, text).unwrap();
+    let settle = |name: &str, extra: &[&str]| {
+        let bed = dir.path().join(format!("{name}.toml"));
+        let out = dir.path().join(name);
+        let mut args = vec![
+            "settle",
+            file.to_str().unwrap(),
+            "--ke-per-fibre",
+            "1",
+            "--write",
+            bed.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "-q",
+        ];
+        args.extend_from_slice(extra);
+        ok(fibresim(&args));
+        fibresim::scenario::load(&bed).expect("the settled bed loads")
+    };
+    let f = settle("given", &["--friction", "0.6"]).friction.unwrap();
+    assert_eq!((f.body, f.wall), (0.6, 0.6));
+    let f = settle("wall", &["--wall-friction", "0.1"])
+        .friction
+        .unwrap();
+    assert_eq!((f.body, f.wall), (0.4, 0.1));
+    let f = settle("kept", &[]).friction.unwrap();
+    assert_eq!((f.body, f.wall), (0.4, 0.25));
+    let off = settle("off", &["--friction", "0", "--wall-friction", "0"]);
+    assert!(off.friction.is_none());
+}
+
+/// A negative or non-finite `--friction`/`--wall-friction` is refused by
+/// `generate` and `settle` with exit 2, naming the flag and the fix.
+#[test]
+fn bad_friction_flags_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("s.toml");
+    let text = scene(
+        1e-3,
+        [0.0, 0.0, -G],
+        "restitution = 0.3",
+        100,
+        &sphere(0.01, 0.0, [0.0; 3]),
+    );
+    std::fs::write(&file, text).unwrap();
+    let out = dir.path().join("g.toml");
+    for (flag, value) in [("--friction", "-0.2"), ("--wall-friction", "inf")] {
+        let generate = [
+            "generate",
+            "--n",
+            "2",
+            "--diameter",
+            "0.01",
+            "--length",
+            "0.03",
+            "--box",
+            "0.1,0.1,0.1",
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+            flag,
+            value,
+        ];
+        let bed = dir.path().join("bed.toml");
+        let settle = [
+            "settle",
+            file.to_str().unwrap(),
+            "--write",
+            bed.to_str().unwrap(),
+            "-q",
+            flag,
+            value,
+        ];
+        for args in [&generate[..], &settle[..]] {
+            let o = fibresim(args);
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+            assert!(
+                err.contains(flag) && err.contains(">= 0") && err.contains("give e.g."),
+                "{args:?}: {err}"
+            );
+            assert!(!bed.exists() && !out.exists());
+        }
+    }
+}
+
+/// The time-step advice with friction (docs/contacts.md, "Friction": the
+/// tangential mode; `src/advice/mod.rs`): a pair's sticking tangential
+/// half period is `π √(m_t/k_t)` with Mindlin's `k_t = 8 G* √(R* δ_m)` at
+/// the deepest overlap `δ_m = (15 m* v²/(16 E* √R*))^{2/5}` of the worst
+/// impact (Hertz), computed here from the scene's inputs:
+/// - sphere on the wall: `m_t = 2m/7`, `m* = m`;
+/// - fibre on the wall: `1/m_t = 1/m + (L/2)²/I⊥ + r²/I_ax` with
+///   `I⊥ = m(3r² + L²)/12`, `I_ax = m r²/2` (the end of the side pushed
+///   across the axis turns the fibre and spins it), `1/m* = 1/m +
+///   (L/2)²/I⊥`.
+///
+/// Equal materials give `k_t/S_n = 2(1−ν)/(2−ν)` against the normal
+/// tangent stiffness `S_n = 2 E* a`. Tolerance 1e-12 relative (the same
+/// formulas, other roundings). A frictionless scene's advice has no
+/// tangential time and is unchanged; with friction the recommended δt is
+/// the smallest of the modes / 50 and a δt leaving fewer than 5 steps per
+/// tangential half period is refused (exit 2) where the frictionless
+/// scene runs.
+#[test]
+fn the_advice_resolves_the_tangential_mode() {
+    use std::f64::consts::PI;
+    let (d, l, rho, e, nu, mu) = (0.01f64, 0.025f64, 1100.0f64, 5e7f64, 0.35f64, 0.3);
+    let r = d / 2.0;
+    let bodies = format!(
+        "{}[[body]]\nshape = \"fibre\"\nmaterial = \"m\"\ndiameter = {d}\nlength = {l}\nposition = [0.1, 0.0, 0.1]\naxis = [1.0, 0.0, 0.0]\n",
+        sphere(d, -0.1, [0.0; 3])
+    );
+    // The box of `scene` has ν = 0.23: equal materials here.
+    let text = |contact: &str| {
+        scene(0.01, [0.0, 0.0, -G], contact, 100, &bodies)
+            .replace("poisson = 0.23", "poisson = 0.35")
+    };
+    let frictional = fibresim::scenario::parse_str(
+        &text(&format!("restitution = 0.3\nfriction = {mu}")),
+        "f.toml",
+    )
+    .expect("loads");
+    let plain = fibresim::scenario::parse_str(&text("restitution = 0.3"), "p.toml").expect("loads");
+    let af = fibresim::advice::advise(&frictional);
+    let ap = fibresim::advice::advise(&plain);
+    // Closed forms from the inputs.
+    let e_star = 1.0 / (2.0 * (1.0 - nu * nu) / e);
+    let g = e / (2.0 * (1.0 + nu));
+    let g_star = 1.0 / (2.0 * (2.0 - nu) / g);
+    let m_s = rho * PI * d.powi(3) / 6.0;
+    let m_f = rho * PI * r * r * l;
+    let (i_t, i_ax) = (m_f * (3.0 * r * r + l * l) / 12.0, m_f * r * r / 2.0);
+    let half = l / 2.0;
+    let cases = [
+        ("body0–wall", m_s, 2.0 * m_s / 7.0),
+        (
+            "body1–wall",
+            1.0 / (1.0 / m_f + half * half / i_t),
+            1.0 / (1.0 / m_f + half * half / i_t + r * r / i_ax),
+        ),
+    ];
+    for (pair, m_n, m_t) in cases {
+        let p = af.pairs.iter().find(|p| p.pair == pair).expect(pair);
+        assert!((p.reduced_mass / m_n - 1.0).abs() < 1e-12, "{pair}: m*");
+        let v = p.v_max;
+        let depth = (15.0 * m_n * v * v / (16.0 * e_star * r.sqrt())).powf(0.4);
+        let a = (r * depth).sqrt();
+        let k_t = 8.0 * g_star * a;
+        assert!((k_t / (2.0 * e_star * a) / (2.0 * (1.0 - nu) / (2.0 - nu)) - 1.0).abs() < 1e-12);
+        let t_ref = PI * (m_t / k_t).sqrt();
+        let t = p.tangential_time.expect("a frictional pair has the mode");
+        eprintln!(
+            "{pair}: tangential half period {t:e} s, closed form {t_ref:e} s; Hertz {:e} s",
+            p.contact_time
+        );
+        assert!(
+            (t / t_ref - 1.0).abs() < 1e-12,
+            "{pair}: {t:e} vs {t_ref:e}"
+        );
+    }
+    assert!(ap.pairs.iter().all(|p| p.tangential_time.is_none()));
+    for (p, q) in af.pairs.iter().zip(&ap.pairs) {
+        assert_eq!(
+            (p.contact_time, p.tilt_period),
+            (q.contact_time, q.tilt_period)
+        );
+    }
+    let modes = |a: &fibresim::advice::Advice, tangential: bool| {
+        let mut t = f64::INFINITY;
+        for p in &a.pairs {
+            t = t
+                .min(p.contact_time / 50.0)
+                .min(0.2 * p.rayleigh_time)
+                .min(p.tilt_period / 50.0);
+            if tangential {
+                t = t.min(p.tangential_time.unwrap() / 50.0);
+            }
+        }
+        t
+    };
+    assert_eq!(ap.recommended_dt, Some(modes(&ap, false)));
+    assert_eq!(af.recommended_dt, Some(modes(&af, true)));
+    assert!(af.recommended_dt < ap.recommended_dt, "friction binds here");
+    // A δt between the two hard limits: refused with friction only.
+    let (hf, hp) = (af.hard_limit_dt.unwrap(), ap.hard_limit_dt.unwrap());
+    assert!(hf < hp);
+    let dt = 0.5 * (hf + hp);
+    let (t_end, dt) = (format!("{:e}", 4.0 * dt), format!("{dt:e}"));
+    let dir = tempfile::tempdir().unwrap();
+    for (name, scene_text, refused) in [
+        (
+            "f",
+            text(&format!("restitution = 0.3\nfriction = {mu}")),
+            true,
+        ),
+        ("p", text("restitution = 0.3"), false),
+    ] {
+        let file = dir.path().join(format!("{name}.toml"));
+        std::fs::write(&file, scene_text).unwrap();
+        let o = fibresim(&[
+            "run",
+            file.to_str().unwrap(),
+            "--dt",
+            &dt,
+            "--t-end",
+            &t_end,
+            "-o",
+            dir.path().join(name).to_str().unwrap(),
+            "-q",
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        if refused {
+            assert_eq!(o.status.code(), Some(2), "{err}");
+            assert!(
+                err.contains("tangential") && err.contains("--allow-large-dt"),
+                "{err}"
+            );
+        } else {
+            assert!(o.status.success(), "{err}");
+        }
+    }
+}
+
+/// `x'' = −x^{3/2} − α x^{1/4} x'`, `x(0) = 0`, `x'(0) = 1`: the Hertz
+/// contact with the restitution damping `η = α √(m k) δ^{1/4}` in the
+/// units `δ* = (m v²/k)^{2/5}`, `τ = δ*/v` (the scaled equation has no
+/// other constant, so `e` depends on α only). RK4 with 2·10⁵ steps per
+/// unit time until `x` returns to 0: the rebound speed `e`, the normal
+/// impulse `J = ∫ F = 1 + e` and the attractive impulse `A = ∫ max(−F, 0)`
+/// (the damping outpulls the spring near the end), in units of `m v`, and
+/// the mean depth under the pushing force, `∫ max(F, 0) x / ∫ max(F, 0)`,
+/// in units of `δ*`.
+fn damped_hertz_impact(alpha: f64) -> (f64, f64, f64, f64) {
+    let force = |x: f64, v: f64| {
+        let x = x.max(0.0);
+        -(x * x.sqrt()) - alpha * x.sqrt().sqrt() * v
+    };
+    let h = 5e-6;
+    let (mut x, mut v, mut attractive) = (0.0f64, 1.0f64, 0.0f64);
+    let (mut push, mut push_depth) = (0.0f64, 0.0f64);
+    loop {
+        let (k1x, k1v) = (v, force(x, v));
+        let (k2x, k2v) = (
+            v + 0.5 * h * k1v,
+            force(x + 0.5 * h * k1x, v + 0.5 * h * k1v),
+        );
+        let (k3x, k3v) = (
+            v + 0.5 * h * k2v,
+            force(x + 0.5 * h * k2x, v + 0.5 * h * k2v),
+        );
+        let (k4x, k4v) = (v + h * k3v, force(x + h * k3x, v + h * k3v));
+        // The attractive part of the force (Simpson on the stages).
+        let pull = |f: f64| f.max(0.0);
+        attractive += h / 6.0 * (pull(k1v) + 2.0 * pull(k2v) + 2.0 * pull(k3v) + pull(k4v));
+        // The pushing force and its depth (the stages' positions).
+        let pushes = [
+            (-k1v, x),
+            (-k2v, x + 0.5 * h * k1x),
+            (-k3v, x + 0.5 * h * k2x),
+            (-k4v, x + h * k3x),
+        ];
+        for (w, (f, y)) in [1.0, 2.0, 2.0, 1.0].into_iter().zip(pushes) {
+            push += h / 6.0 * w * f.max(0.0);
+            push_depth += h / 6.0 * w * f.max(0.0) * y;
+        }
+        x += h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
+        v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+        if x <= 0.0 {
+            return (-v, 1.0 - v, attractive, push_depth / push);
+        }
+    }
+}
+
+/// (f) A sphere (D = 1 cm) hitting the floor at a large incidence angle
+/// (v_n = 0.2 m/s, v_t = 1.5 m/s, no gravity, no spin): it slides through
+/// the whole contact when the slip `v_t` exceeds the change
+/// `(1 + 5/2) μ (1 + e) v_n` that friction makes (`tan ψ > 7 μ` at e = 1:
+/// 7.5 > 2.1 here). Then the tangential impulse is μ times the normal one
+/// and `Δv_t = μ (1 + e) v_n`, `ω = 5 Δv_t/(2R)` (`I = (2/5) m R²`; Maw,
+/// Barber & Fawcett, Wear 38 (1976) 101, the gross-slip regime; Chung &
+/// Ooi, Granular Matter 13 (2011) 643, benchmark test 6).
+///
+/// The cap is μ times the whole normal force, elastic and damping, floored
+/// at 0 (`μ max(F_n, 0)`): where the damping outpulls the spring at the end
+/// of a damped contact the normal force is attractive and friction is 0, so
+/// the tangential impulse is `μ (J + A)` with `A` the attractive impulse,
+/// `Δv_t = μ (1 + e) v_n (1 + A/J)`. `A/J` depends on e only
+/// ([`damped_hertz_impact`], α found by bisection from e): 0 at e = 1,
+/// +x % at e = 0.5 (printed). Tolerances: 1e-4 relative on `Δv_t` at e = 1
+/// (the discrete impulse sums, 1e-6 s steps over a ~0.3 ms contact),
+/// 1e-3 at e = 0.5 (and the rebound e itself to 1e-3, the damping
+/// model's own accuracy). The spin: the force acts mid-overlap, at the
+/// lever `R − δ/2`, so `ω R/Δv_t = (5/2)(1 − ⟨δ⟩/(2R))` with `⟨δ⟩` the mean
+/// depth under the tangential force (from the same scaled equation; 0.34 %
+/// below 5/2 here), to 1e-4 relative.
+fn oblique_impact(e: f64) {
+    let dir = tempfile::tempdir().unwrap();
+    let (d, vn, vt, mu) = (0.01, 0.2, 1.5, 0.3);
+    let r = d / 2.0;
+    // α of this e (e falls as α grows).
+    let (mut lo, mut hi) = (0.0f64, 2.0f64);
+    let mut impact = damped_hertz_impact(0.0);
+    if e < 1.0 {
+        for _ in 0..40 {
+            let mid = 0.5 * (lo + hi);
+            impact = damped_hertz_impact(mid);
+            if impact.0 > e {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+    }
+    let (e_ode, j, attractive, depth) = impact;
+    assert!((e_ode - e).abs() < 1e-6, "bisection: e = {e_ode}");
+    let excess = attractive / j;
+    let contact = if e < 1.0 {
+        format!("restitution = {e}\nfriction = {mu}")
+    } else {
+        format!("friction = {mu}")
+    };
+    // Starts 1 mm above the floor (5 ms of flight).
+    let body = format!(
+        "[[body]]\nshape = \"sphere\"\nmaterial = \"m\"\ndiameter = {d}\nposition = [-0.1, 0.0, {}]\nvelocity = [{vt}, 0.0, {}]\n",
+        r + 1e-3,
+        -vn
+    );
+    let rows = run(
+        dir.path(),
+        &format!("oblique_{e}"),
+        &scene(0.012, [0.0; 3], &contact, 1000, &body),
+    );
+    let (_, v, w) = rows.last().unwrap();
+    let e_sim = v[2] / vn;
+    let dv_t = vt - v[0];
+    let closed = mu * (1.0 + e) * vn;
+    eprintln!(
+        "oblique impact, e = {e}: rebound e {e_sim:.6}, Δv_t {dv_t:.6e} m/s, μ(1+e)v_n {closed:.6e} (deviation {:.3e}), attractive impulse A/J {excess:.4e}, ωR/Δv_t {:.12}",
+        dv_t / closed - 1.0,
+        w[1] * r / dv_t
+    );
+    assert!((e_sim - e).abs() < 1e-3, "rebound e = {e_sim}");
+    let tol = if e < 1.0 { 1e-3 } else { 1e-4 };
+    assert!(
+        (dv_t / (closed * (1.0 + excess)) - 1.0).abs() < tol,
+        "e = {e}: Δv_t {dv_t:e}, μ(1+e)v_n(1 + A/J) = {:e}",
+        closed * (1.0 + excess)
+    );
+    // The force acts mid-overlap (`sphere_wall.rs`): the lever is
+    // R − δ/2, δ* = (m v_n²/k)^{2/5}, k = (4/3) E* √R.
+    let m = 1100.0 * std::f64::consts::PI * d * d * d / 6.0;
+    let e_star = 1.0 / ((1.0 - 0.35f64.powi(2)) / 5e7 + (1.0 - 0.23f64.powi(2)) / 5e7);
+    let delta = (m * vn * vn / (4.0 / 3.0 * e_star * r.sqrt())).powf(0.4);
+    let lever = 2.5 * (1.0 - depth * delta / (2.0 * r));
+    let spin = w[1] * r / dv_t;
+    eprintln!("  ωR/Δv_t {spin:.8}, 5/2 (1 − <δ>/2R) {lever:.8}");
+    assert!(
+        (spin / lever - 1.0).abs() < 1e-4,
+        "ω R/Δv_t = {spin}, closed form {lever}"
+    );
+    // Gross slip to the end: the contact point still slides forward.
+    assert!(v[0] - w[1] * r > 0.1 * vt);
+}
+
+/// (f) at e = 1 (elastic: no damping, `A = 0`).
+#[test]
+fn an_elastic_oblique_impact_in_gross_slip_takes_mu_times_the_normal_impulse() {
+    oblique_impact(1.0);
+}
+
+/// (f) at e = 0.5: fails today, `Δv_t` is 9.0 % below
+/// `μ (1 + e) v_n (1 + A/J)` (5.9 % below `μ (1 + e) v_n`), the same at
+/// δt = 2e-7 s. Early in the contact the trial force of a sliding contact
+/// points *along* the slip for ~44 steps: after a reset (Luding's Eq. 13,
+/// `ξ = −(f + η_t v_t)/k_t`) the damping term `η_t v_t` exceeds the cap, so
+/// the spring is stored backwards, and as `k_t ∝ δ^{1/2}` grows faster
+/// than `η_t ∝ δ^{1/4}` while loading, the next trial `−k_t ξ − η_t v_t`
+/// comes out forward and is capped forward (docs/contacts.md, "Friction",
+/// "Not yet").
+#[test]
+#[ignore = "a damped sliding contact pushes along the slip early in the contact (docs/contacts.md, Friction, Not yet)"]
+fn a_damped_oblique_impact_in_gross_slip_takes_mu_times_the_pushing_impulse() {
+    oblique_impact(0.5);
+}
+
+/// (g) A fibre (D = 1 cm, L = 2.5 cm) lying with its axis down a floor
+/// tilted by θ = 20° (tan θ = 0.364): friction acts along the axis and
+/// nothing rolls. At μ = 0.5 > tan θ it sticks: from 10 ms on (the start's
+/// settling onto its two rims) its speed stays below 1e-5 m/s (10 ms of
+/// sliding at 0.1 % of g sin θ would give 3.4e-5 m/s). At μ = 0.2
+/// it slides with `a = g (sin θ − μ cos θ)`, measured between 20 and
+/// 60 ms to 1e-3 relative.
+#[test]
+fn a_fibre_down_a_slope_sticks_or_slides() {
+    let dir = tempfile::tempdir().unwrap();
+    let theta = 20f64.to_radians();
+    let fibre = "[[body]]\nshape = \"fibre\"\nmaterial = \"m\"\ndiameter = 0.01\nlength = 0.025\nposition = [-0.15, 0.0, 0.005]\naxis = [1.0, 0.0, 0.0]\n";
+    for mu in [0.5, 0.2] {
+        let text = scene(
+            0.06,
+            tilted(theta),
+            &format!("restitution = 0.3\nfriction = {mu}"),
+            1000,
+            fibre,
+        );
+        let rows = run(dir.path(), &format!("down_{mu}"), &text);
+        if mu > theta.tan() {
+            let fastest = rows
+                .iter()
+                .filter(|r| r.0 >= 0.01)
+                .map(|r| (r.1[0].powi(2) + r.1[1].powi(2)).sqrt())
+                .fold(0.0, f64::max);
+            eprintln!("fibre down the slope, μ = {mu}: fastest from 10 ms {fastest:e} m/s");
+            assert!(fastest < 1e-5, "μ = {mu} > tan θ sticks: {fastest:e} m/s");
+        } else {
+            let a = acceleration(&rows, 0.02, 0.06);
+            let a_ref = G * (theta.sin() - mu * theta.cos());
+            eprintln!(
+                "fibre down the slope, μ = {mu}: a = {a}, closed form {a_ref} (deviation {:.2e})",
+                a / a_ref - 1.0
+            );
+            assert!(
+                (a / a_ref - 1.0).abs() < 1e-3,
+                "a = {a}, closed form {a_ref}"
+            );
+            let (_, _, w) = rows.last().unwrap();
+            assert!(w[1].abs() < 1e-6, "no roll: ω_y = {}", w[1]);
+        }
+    }
+}
+
+/// (h) The fibre of (c) lying across the 20° slope at μ = 0.05 < tan θ/3
+/// = 0.121 slides: `a = g (sin θ − μ cos θ)` and it spins up at
+/// `α = 2 μ g cos θ / r` (the friction `μ m g cos θ` at the lever r on
+/// `I = m r²/2`), both measured between 20 and 60 ms to 1e-3 relative
+/// (α comes out 2.5e-4 low: the force acts mid-overlap, at the lever
+/// `r − δ/2`).
+#[test]
+fn a_fibre_across_a_slope_slides_and_spins_up() {
+    let dir = tempfile::tempdir().unwrap();
+    let (theta, mu, r) = (20f64.to_radians(), 0.05, 0.005);
+    let fibre = "[[body]]\nshape = \"fibre\"\nmaterial = \"m\"\ndiameter = 0.01\nlength = 0.025\nposition = [-0.15, 0.0, 0.005]\naxis = [0.0, 1.0, 0.0]\n";
+    let text = scene(
+        0.06,
+        tilted(theta),
+        &format!("restitution = 0.3\nfriction = {mu}"),
+        1000,
+        fibre,
+    );
+    let rows = run(dir.path(), "across_slide", &text);
+    let a = acceleration(&rows, 0.02, 0.06);
+    let a_ref = G * (theta.sin() - mu * theta.cos());
+    let at = |t: f64| {
+        rows.iter()
+            .find(|row| (row.0 - t).abs() < 0.5 * DT)
+            .unwrap()
+    };
+    let alpha = (at(0.06).2[1] - at(0.02).2[1]) / 0.04;
+    let alpha_ref = 2.0 * mu * G * theta.cos() / r;
+    eprintln!(
+        "fibre across the slope, μ = {mu}: a = {a} (closed form {a_ref}, deviation {:.2e}), α = {alpha} (closed form {alpha_ref}, deviation {:.2e})",
+        a / a_ref - 1.0,
+        alpha / alpha_ref - 1.0
+    );
+    assert!(
+        (a / a_ref - 1.0).abs() < 1e-3,
+        "a = {a}, closed form {a_ref}"
+    );
+    assert!(
+        (alpha / alpha_ref - 1.0).abs() < 1e-3,
+        "α = {alpha}, closed form {alpha_ref}"
+    );
+}
