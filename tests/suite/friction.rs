@@ -911,3 +911,189 @@ fn a_fibre_across_a_slope_slides_and_spins_up() {
         "α = {alpha}, closed form {alpha_ref}"
     );
 }
+
+/// The tangential force on A of the stage `stage` at A's pose `x_a` and
+/// velocity `v_a` (B at rest at its start): the force on A and whether
+/// the pair touches.
+fn force_on_a(
+    stage: &mut fibresim::contact::stage::ContactStage,
+    scene: &fibresim::scenario::Scene,
+    x_a: glam::DVec3,
+    v_a: glam::DVec3,
+) -> glam::DVec3 {
+    let mut states = scene.initial.clone();
+    states[0].x = x_a;
+    states[0].v = v_a;
+    let mut force = vec![glam::DVec3::ZERO; 2];
+    let mut torque = vec![glam::DVec3::ZERO; 2];
+    stage.compute(&scene.bodies, &states, &mut force, &mut torque);
+    force[0]
+}
+
+/// (i) A regime change under a sliding spring (docs/contacts.md,
+/// "Identity and history": a change of feature keeps the slot's spring).
+/// Fibre A (axis x) lies across fibre B (axis y), pressed into it by a
+/// fixed 20 µm, and is moved (prescribed, the stage called each step as
+/// the integrator does) along x at 5 mm/s, so the contact slides along
+/// x, and along y at 1 mm/s, so the contact point runs along B's side
+/// and over B's end: side on side becomes A's side on B's rim, whose
+/// normal turns in the y–z plane. Since the normal never has an x
+/// part, `F_x` is the tangential force along x, and in sliding
+/// `F_x ≈ μ F_n`. A spring dropped at the change would restart from
+/// zero: `F_x` would fall to `k_t |v| δt` (4 % of μ F_n here, the first
+/// step's value) and climb back over tens of steps. Checked: on the side
+/// (n = z) `F_x/(μ |F_yz|) = (v_x/|v|)/√(1 + (μ v_y/|v|)²)` (the y part of
+/// the friction is in `F_yz`), to 1e-9 relative; over the whole passage
+/// after the first 1000 steps (the new contact's spring loading) it
+/// changes by less than 1e-6 per step (it drifts by 4e-5 in all, as the
+/// rim's normal turns in the y–z plane) and ends within 1 % of its side
+/// value.
+#[test]
+fn a_side_contact_turning_into_a_rim_contact_keeps_its_spring() {
+    use glam::DVec3;
+    let (d, l, mu, dt) = (0.01, 0.03, 0.3, 1e-6);
+    let text = format!(
+        "[simulation]\ndt = {dt}\nt_end = 0.001\n[contact]\nfriction = {mu}\n[material.m]\ndensity = 1100.0\nyoung = 5e7\npoisson = 0.35\n[[body]]\nshape = \"fibre\"\nmaterial = \"m\"\ndiameter = {d}\nlength = {l}\nposition = [0.0, 0.0, 0.00998]\naxis = [1.0, 0.0, 0.0]\n[[body]]\nshape = \"fibre\"\nmaterial = \"m\"\ndiameter = {d}\nlength = {l}\nposition = [0.0, 0.0, 0.0]\naxis = [0.0, 1.0, 0.0]\n[guards]\nstart_overlap_ratio = 0.01\n"
+    );
+    let scene = fibresim::scenario::parse_str(&text, "regime.toml").expect("loads");
+    let mut stage =
+        fibresim::contact::stage::ContactStage::new(&scene.bodies, &scene.materials, None)
+            .with_friction(scene.friction, dt);
+    let v = DVec3::new(0.2, 0.02, 0.0);
+    // From 1 mm before B's end (y = L/2) until the contact opens.
+    let start = DVec3::new(0.0, 0.5 * l - 1e-3, 0.00998);
+    let (mut ratios, mut at_y) = (vec![], vec![]);
+    let mut rim_steps = 0;
+    // The spring of the new contact loads to the cap in its first
+    // ~μ F_n/(k_t |v| δt) steps (a new contact starts from zero).
+    const WARM: usize = 1000;
+    for k in 0.. {
+        let x = start + v * (k as f64 * dt);
+        let f = force_on_a(&mut stage, &scene, x, v);
+        let f_yz = (f.y * f.y + f.z * f.z).sqrt();
+        if f_yz == 0.0 {
+            assert!(k > 0, "the pair touches at the start");
+            break;
+        }
+        if x.y > 0.5 * l {
+            rim_steps += 1;
+        }
+        ratios.push((-f.x / (mu * f_yz), f_yz));
+        at_y.push(x.y - 0.5 * l);
+    }
+    // Side on side (n = z): v_t = v, the force μ F_n along −v, so
+    // F_x/(μ |F_yz|) = (v_x/|v|)/√(1 + (μ v_y/|v|)²).
+    let side = (v.x / v.length()) / (1.0 + (mu * v.y / v.length()).powi(2)).sqrt();
+    let (first, last) = (ratios[WARM], ratios[ratios.len() - 1]);
+    let before = ratios
+        .iter()
+        .zip(&at_y)
+        .filter(|(_, &y)| y < 0.0)
+        .map(|(r, _)| r.0);
+    let side_error = before
+        .skip(WARM)
+        .map(|r| (r / side - 1.0).abs())
+        .fold(0.0, f64::max);
+    let jumps: Vec<f64> = ratios[WARM..]
+        .windows(2)
+        .map(|w| (w[1].0 - w[0].0).abs())
+        .collect();
+    let (worst, at) = jumps.iter().enumerate().fold(
+        (0.0, 0),
+        |(m, i), (j, &x)| if x > m { (x, j) } else { (m, i) },
+    );
+    eprintln!(
+        "side to rim: {} steps in contact ({rim_steps} past B's end), F_x/(μ F_yz) {:.6} (side phase, closed form {side:.6}, worst {side_error:.1e} relative) to {:.6}, largest step change {worst:.3e} at step {}",
+        ratios.len(),
+        first.0,
+        last.0,
+        at + WARM
+    );
+    assert!(
+        rim_steps > 1000,
+        "the contact ran over B's rim: {rim_steps} steps"
+    );
+    assert!(
+        side_error < 1e-9,
+        "side on side: {side_error:e} from the closed form"
+    );
+    assert!(
+        (last.0 / side - 1.0).abs() < 1e-2,
+        "still sliding at the end: {}",
+        last.0
+    );
+    assert!(
+        worst < 1e-6,
+        "F_x/(μ F_yz) jumps by {worst:e} at step {}",
+        at + WARM
+    );
+}
+
+/// (j) A parallel pair splitting and merging under a sliding spring: A
+/// lies on B (both along x, pressed 20 µm), slides along x at 0.2 m/s and
+/// turns about z at 1 rad/s from 3.4° to −3.4°, through the parallel band
+/// (|sin| < 0.035: the line contact's two points, blended with the
+/// crossing's single point down to |sin| 0.02). Sliding throughout, so the
+/// tangential force stays at the cap: `|F_xy|/(μ F_z)` within 0.2 % of 1
+/// (the blended normals are not exactly z). Should it change by less than
+/// 1e-2 per step after the first 1000 (the new contact's spring loading)?
+///
+/// Fails today, at four places, where the slots (the point's rank in the
+/// kernel's output) hand a spring to another point or start one from zero:
+/// entering the band (sin 0.0350) the force falls to 4 % of the cap in one
+/// step (the first step of a fresh spring, `k_t |v| δt`), at sin 0.0100 to
+/// 56 %, at sin −0.0050 to 69 %, leaving the band (−0.0350) to 37 %; each
+/// climbs back to the cap in ~25 steps (at this slip; a sticking contact
+/// keeps the loss until it is stretched again). docs/contacts.md,
+/// "Friction", "Not yet".
+#[test]
+#[ignore = "the slot rule hands springs between points at the parallel band (docs/contacts.md, Friction, Not yet)"]
+fn a_parallel_pair_splitting_and_merging_keeps_its_sliding_force() {
+    use glam::{DQuat, DVec3};
+    let (d, l, mu, dt) = (0.01, 0.03, 0.3, 1e-6);
+    let text = format!(
+        "[simulation]\ndt = {dt}\nt_end = 0.001\n[contact]\nfriction = {mu}\n[material.m]\ndensity = 1100.0\nyoung = 5e7\npoisson = 0.35\n[[body]]\nshape = \"fibre\"\nmaterial = \"m\"\ndiameter = {d}\nlength = {l}\nposition = [0.0, 0.0, 0.00998]\naxis = [1.0, 0.0, 0.0]\n[[body]]\nshape = \"fibre\"\nmaterial = \"m\"\ndiameter = {d}\nlength = {l}\nposition = [0.0, 0.0, 0.0]\naxis = [1.0, 0.0, 0.0]\n[guards]\nstart_overlap_ratio = 0.01\n"
+    );
+    let scene = fibresim::scenario::parse_str(&text, "split.toml").expect("loads");
+    let mut stage =
+        fibresim::contact::stage::ContactStage::new(&scene.bodies, &scene.materials, None)
+            .with_friction(scene.friction, dt);
+    let (v, w, phi0) = (DVec3::new(0.2, 0.0, 0.0), -1.0, 0.06);
+    let steps = (2.0 * phi0 / -w / dt) as usize;
+    let mut rows = vec![];
+    for k in 0..steps {
+        let t = k as f64 * dt;
+        let mut states = scene.initial.clone();
+        states[0].x = DVec3::new(0.0, 0.0, 0.00998) + v * t;
+        states[0].v = v;
+        states[0].rot.q = DQuat::from_rotation_z(phi0 + w * t);
+        states[0].rot.omega_b = DVec3::new(0.0, 0.0, w);
+        let mut force = vec![DVec3::ZERO; 2];
+        let mut torque = vec![DVec3::ZERO; 2];
+        stage.compute(&scene.bodies, &states, &mut force, &mut torque);
+        let f = force[0];
+        rows.push((
+            (phi0 + w * t).sin(),
+            (f.x * f.x + f.y * f.y).sqrt() / (mu * f.z),
+        ));
+    }
+    let mut drops = vec![];
+    for k in 1001..rows.len() {
+        assert!(
+            (rows[k - 1].1 - 1.0).abs() < 2e-3 || rows[k - 1].1 < 1.0,
+            "above the cap: {:?}",
+            rows[k - 1]
+        );
+        if rows[k - 1].1 - rows[k].1 > 1e-2 {
+            drops.push((rows[k].0, rows[k - 1].1, rows[k].1));
+        }
+    }
+    for (sin, from, to) in &drops {
+        eprintln!("at sin {sin:.4}: |F_t|/(μ F_n) {from:.4} -> {to:.4}");
+    }
+    assert!(
+        drops.is_empty(),
+        "{} drops of the sliding force",
+        drops.len()
+    );
+}
