@@ -1097,3 +1097,72 @@ fn a_parallel_pair_splitting_and_merging_keeps_its_sliding_force() {
         drops.len()
     );
 }
+
+/// The shipped friction scenes show what their headers say (20° slope,
+/// D = 1 cm): `fibre_rolling.toml` rolls at `a = (2/3) g sin θ` with
+/// `ω = v/r`, `fibre_sliding.toml` (μ = 0.05) slides at
+/// `a = g (sin θ − μ cos θ)` and spins up at `2 μ g cos θ / r`, each
+/// measured between 20 and 60 ms to 1e-3 relative (the run cut at 60 ms);
+/// `fibre_thrown_spinning.toml` ends lying on its side on the floor
+/// (centre at z = r to 1 % of r) after its landings.
+#[test]
+fn the_shipped_friction_scenes_show_their_closed_forms() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios");
+    let theta = 20f64.to_radians();
+    let (r, mu) = (0.005, 0.05);
+    let cut = |name: &str, t_end: &str| {
+        let text = std::fs::read_to_string(root.join(name)).unwrap();
+        let text = text.replacen("t_end = 0.3", &format!("t_end = {t_end}"), 1);
+        run(dir.path(), name.trim_end_matches(".toml"), &text)
+    };
+    let rows = cut("fibre_rolling.toml", "0.06");
+    let (a, a_ref) = (acceleration(&rows, 0.02, 0.06), 2.0 / 3.0 * G * theta.sin());
+    assert!((a / a_ref - 1.0).abs() < 1e-3, "rolling: a = {a}, {a_ref}");
+    let (_, v, w) = rows.last().unwrap();
+    assert!(
+        (w[1] * r / v[0] - 1.0).abs() < 1e-3,
+        "ω r = {}, v = {}",
+        w[1] * r,
+        v[0]
+    );
+    let rows = cut("fibre_sliding.toml", "0.06");
+    let (a, a_ref) = (
+        acceleration(&rows, 0.02, 0.06),
+        G * (theta.sin() - mu * theta.cos()),
+    );
+    assert!((a / a_ref - 1.0).abs() < 1e-3, "sliding: a = {a}, {a_ref}");
+    let at = |t: f64| {
+        rows.iter()
+            .find(|row| (row.0 - t).abs() < 0.5 * DT)
+            .unwrap()
+    };
+    let alpha = (at(0.06).2[1] - at(0.02).2[1]) / 0.04;
+    let alpha_ref = 2.0 * mu * G * theta.cos() / r;
+    assert!(
+        (alpha / alpha_ref - 1.0).abs() < 1e-3,
+        "α = {alpha}, {alpha_ref}"
+    );
+    let text = std::fs::read_to_string(root.join("fibre_thrown_spinning.toml")).unwrap();
+    let out = dir.path().join("thrown");
+    let file = dir.path().join("thrown.toml");
+    std::fs::write(&file, text).unwrap();
+    ok(fibresim(&[
+        "run",
+        file.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ]));
+    let csv = String::from_utf8(read_bytes(&out.join("trajectory.csv"))).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let z = header.iter().position(|h| *h == "z").unwrap();
+    let last: Vec<f64> = csv
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert!((last[z] / r - 1.0).abs() < 1e-2, "rests at z = {}", last[z]);
+}
