@@ -621,12 +621,27 @@ fn the_advice_resolves_the_tangential_mode() {
     assert_eq!(ap.recommended_dt, Some(modes(&ap, false)));
     assert_eq!(af.recommended_dt, Some(modes(&af, true)));
     assert!(af.recommended_dt < ap.recommended_dt, "friction binds here");
+    // `fibresim check` prints the column with friction only.
+    let dir = tempfile::tempdir().unwrap();
+    for (name, contact, shown) in [
+        ("f", format!("restitution = 0.3\nfriction = {mu}"), true),
+        ("p", "restitution = 0.3".to_string(), false),
+    ] {
+        let file = dir.path().join(format!("check_{name}.toml"));
+        std::fs::write(&file, text(&contact)).unwrap();
+        let out = ok(fibresim(&["check", file.to_str().unwrap()]));
+        assert_eq!(out.contains("t_tangential (s)"), shown, "{out}");
+        assert_eq!(
+            out.contains("shortest tangential half period / 50"),
+            shown,
+            "{out}"
+        );
+    }
     // A δt between the two hard limits: refused with friction only.
     let (hf, hp) = (af.hard_limit_dt.unwrap(), ap.hard_limit_dt.unwrap());
     assert!(hf < hp);
     let dt = 0.5 * (hf + hp);
     let (t_end, dt) = (format!("{:e}", 4.0 * dt), format!("{dt:e}"));
-    let dir = tempfile::tempdir().unwrap();
     for (name, scene_text, refused) in [
         (
             "f",
