@@ -1053,13 +1053,13 @@ fn a_side_contact_turning_into_a_rim_contact_keeps_its_spring() {
 /// (the blended normals are not exactly z). Should it change by less than
 /// 1e-2 per step after the first 1000 (the new contact's spring loading)?
 ///
-/// Fails today, at four places, where the slots (the point's rank in the
-/// kernel's output) hand a spring to another point or start one from zero:
+/// Fails today, at four places, where a slot (the point's rank in the
+/// kernel's output) meets a point without its spring:
 /// entering the band (sin 0.0350) the force falls to 4 % of the cap in one
 /// step (the first step of a fresh spring, `k_t |v| δt`), at sin 0.0100 to
 /// 56 %, at sin −0.0050 to 69 %, leaving the band (−0.0350) to 37 %; each
 /// climbs back to the cap in ~25 steps (at this slip; a sticking contact
-/// keeps the loss until it is stretched again). docs/contacts.md,
+/// would keep the loss until stretched again). docs/contacts.md,
 /// "Friction", "Not yet".
 #[test]
 #[ignore = "the slot rule hands springs between points at the parallel band (docs/contacts.md, Friction, Not yet)"]
