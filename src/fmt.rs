@@ -34,9 +34,24 @@ pub fn short3(v: impl Into<[f64; 3]>) -> String {
     format!("[{}, {}, {}]", short(x), short(y), short(z))
 }
 
+/// "12 fibres", "1 sphere", "900 fibres and 100 spheres": what a scene or a
+/// frame holds, for messages and titles.
+pub fn census(fibres: usize, spheres: usize) -> String {
+    let count = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
+    match (fibres, spheres) {
+        (_, 0) => count(fibres, "fibre"),
+        (0, _) => count(spheres, "sphere"),
+        _ => format!(
+            "{} and {}",
+            count(fibres, "fibre"),
+            count(spheres, "sphere")
+        ),
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::{short, short3};
+    use super::{census, short, short3};
 
     #[test]
     fn arithmetic_rounding_is_hidden() {
@@ -93,5 +108,14 @@ mod tests {
         // 12 significant digits survive.
         assert_eq!(short(0.123456789012), "0.123456789012");
         assert_eq!(short(2.5e-300), "2.5e-300");
+    }
+
+    /// Counts read as a person writes them.
+    #[test]
+    fn a_census_names_fibres_and_spheres() {
+        assert_eq!(census(1, 0), "1 fibre");
+        assert_eq!(census(0, 0), "0 fibres");
+        assert_eq!(census(0, 2), "2 spheres");
+        assert_eq!(census(2, 1), "2 fibres and 1 sphere");
     }
 }

@@ -1,5 +1,5 @@
-//! fibresim: a DEM simulator for frictionless, elastic (Hertzian) rigid cylindrical
-//! fibres, built to compare quaternion rotation integrators (Zhao & van Wachem 2013).
+//! fibresim: a DEM simulator for rigid cylindrical fibres (and spheres) with
+//! Hertzian contacts and optional Coulomb friction, built to compare quaternion rotation integrators (Zhao & van Wachem 2013).
 //!
 //! Conventions (docs/physics.md §1):
 //! - SI units everywhere; gravity along −z by default; the box floor is z = 0.

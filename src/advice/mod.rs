@@ -500,10 +500,17 @@ pub fn advise_with(scene: &Scene, impact_speed: Option<f64>) -> Advice {
             ),
             false => String::new(),
         };
+        // A scene of spheres has no face to tilt (t_tilt infinite).
+        let tilt = match t_tilt.is_finite() {
+            true => format!(
+                "; the fastest face tilt, {t_tilt:.3e} s, {:.1}",
+                t_tilt / dt
+            ),
+            false => String::new(),
+        };
         warnings.push(format!(
-            "dt = {dt:e} s is above the recommended {recommended:.3e} s (the shortest Hertz collision, {t_c:.3e} s, gets {:.1} steps; the fastest face tilt, {t_tilt:.3e} s, {:.1}{tangential}; 0.2 x Rayleigh time = {:.3e} s)",
+            "dt = {dt:e} s is above the recommended {recommended:.3e} s (the shortest Hertz collision, {t_c:.3e} s, gets {:.1} steps{tilt}{tangential}; 0.2 x Rayleigh time = {:.3e} s)",
             t_c / dt,
-            t_tilt / dt,
             RAYLEIGH_FRACTION * t_r
         ));
     }

@@ -92,12 +92,12 @@ pub fn execute(cli: Cli) -> Result<()> {
             if !p.quiet {
                 let [nx, ny, nz] = p.opts.times;
                 println!(
-                    "{} x {} x {} copies of {}: {} fibres in the box {} .. {}; touching contacts {} (the source: {} each), largest overlap ratio {:.4} (guards.start_overlap_ratio = {})\n-> {} (bodies: {})",
+                    "{} x {} x {} copies of {}: {} in the box {} .. {}; touching contacts {} (the source: {} each), largest overlap ratio {:.4} (guards.start_overlap_ratio = {})\n-> {} (bodies: {})",
                     nx,
                     ny,
                     nz,
                     p.scene.source,
-                    r.fibres,
+                    r.written,
                     r.walls.min,
                     r.walls.max,
                     r.touching.1,
@@ -282,14 +282,20 @@ fn settle(mut plan: plan::SettlePlan) -> Result<()> {
     let settle = plan.opts.settle.expect("a settle plan has a settle test");
     let body_file = crate::generate::body_file_of(&plan.write);
     let n = scene.bodies.len() as f64;
+    let spheres = scene
+        .bodies
+        .iter()
+        .filter(|b| matches!(b.shape, crate::body::Shape::Sphere { .. }))
+        .count();
+    let census = crate::fmt::census(scene.bodies.len() - spheres, spheres);
+    let per = if spheres > 0 { "body" } else { "fibre" };
     let (ke, settled) = (s.kinetic_final, s.settled == Some(true));
     let text = crate::scenario::write::BedScenario {
         comment: vec![
             format!("Settled by: {}", command_line()),
             format!(
-                "from {} ({} fibres): {} after {} steps of {:e} s (t = {} s), kinetic energy {:.3e} J per fibre (threshold {:.3e} J).",
+                "from {} ({census}): {} after {} steps of {:e} s (t = {} s), kinetic energy {:.3e} J per {per} (threshold {:.3e} J).",
                 scene.source,
-                scene.bodies.len(),
                 if settled { "settled" } else { "NOT settled (t_end reached)" },
                 s.steps,
                 s.dt,
@@ -336,7 +342,7 @@ fn settle(mut plan: plan::SettlePlan) -> Result<()> {
             f => format!(" ({} of them in this run)", s.steps - f),
         };
         println!(
-            "{}: {} after {} steps{resumed} of {:e} s in {:.1} s ({:.3e} fibre-steps/s); kinetic energy {:.3e} J per fibre (threshold {:.3e} J), dissipated {:.4e} J\n-> {} (bodies: {}); run outputs in {}",
+            "{}: {} after {} steps{resumed} of {:e} s in {:.1} s ({:.3e} {per}-steps/s); kinetic energy {:.3e} J per {per} (threshold {:.3e} J), dissipated {:.4e} J\n-> {} (bodies: {}); run outputs in {}",
             scene.source,
             if settled { "settled" } else { "not settled by t_end" },
             s.steps,

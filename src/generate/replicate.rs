@@ -28,8 +28,9 @@ pub struct ReplicateOptions {
 /// What `fibresim replicate` made.
 #[derive(Debug, Clone)]
 pub struct ReplicateReport {
-    /// Fibres written (copies × the source's).
-    pub fibres: usize,
+    /// What was written (copies × the source's): "20000 fibres", "…
+    /// fibres and … spheres".
+    pub written: String,
     /// The new box.
     pub walls: Walls,
     /// Touching contacts of the source, and of the replicated bed.
@@ -136,15 +137,21 @@ pub fn replicate(scene: &Scene, o: &ReplicateOptions) -> Result<ReplicateReport>
     )?;
     let walls = big.walls.expect("replicated beds have a box");
     let [nx, ny, nz] = o.times;
+    let census = |bodies: &[crate::body::Body]| {
+        let spheres = bodies
+            .iter()
+            .filter(|b| matches!(b.shape, crate::body::Shape::Sphere { .. }))
+            .count();
+        crate::fmt::census(bodies.len() - spheres, spheres)
+    };
+    let copies = nx * ny * nz;
+    let (source, result) = (census(&scene.bodies), census(&big.bodies));
     let text = BedScenario {
         comment: vec![
             format!("Replicated by: {}", o.command),
             format!(
-                "{} copies ({nx} x {ny} x {nz}) of {} ({} fibres): {} fibres; touching contacts {} (the source: {} each); largest overlap ratio at the start {:.4}.",
-                nx * ny * nz,
+                "{copies} copies ({nx} x {ny} x {nz}) of {} ({source}): {result}; touching contacts {} (the source: {} each); largest overlap ratio at the start {:.4}.",
                 scene.source,
-                scene.bodies.len(),
-                big.bodies.len(),
                 touching,
                 touching_source,
                 max_overlap_ratio
@@ -166,7 +173,7 @@ pub fn replicate(scene: &Scene, o: &ReplicateOptions) -> Result<ReplicateReport>
     .to_string();
     std::fs::write(&o.out, text).map_err(|e| Error::io(&o.out, e))?;
     Ok(ReplicateReport {
-        fibres: big.bodies.len(),
+        written: result,
         walls,
         touching: (touching_source, touching),
         max_overlap_ratio,

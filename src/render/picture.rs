@@ -249,21 +249,10 @@ fn legend(pm: &mut Pixmap, font: &ab_glyph::FontRef, frame: &Frame) {
     }
 }
 
-/// "12 fibres", "1 sphere", "900 fibres and 100 spheres": what the frame
-/// holds (a sphere is a body of zero length).
+/// What the frame holds (a sphere is a body of zero length).
 fn census(frame: &Frame) -> String {
     let spheres = frame.fibres.iter().filter(|f| f.length == 0.0).count();
-    let fibres = frame.fibres.len() - spheres;
-    let count = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
-    match (fibres, spheres) {
-        (_, 0) => count(fibres, "fibre"),
-        (0, _) => count(spheres, "sphere"),
-        _ => format!(
-            "{} and {}",
-            count(fibres, "fibre"),
-            count(spheres, "sphere")
-        ),
-    }
+    crate::fmt::census(frame.fibres.len() - spheres, spheres)
 }
 
 #[cfg(test)]
