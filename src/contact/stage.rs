@@ -64,6 +64,9 @@ pub struct ContactStage {
     /// MPI rank 0: every rank's pair memories, gathered for a checkpoint.
     #[cfg(feature = "mpi")]
     gathered: Option<Vec<Entry>>,
+    /// MPI rank 0: every rank's contacts' records, gathered for a checkpoint.
+    #[cfg(feature = "mpi")]
+    gathered_history: Option<History>,
     /// What the last [`ContactStage::compute`] saw.
     pub stats: ContactStats,
 }
@@ -121,6 +124,8 @@ impl ContactStage {
             motion: vec![],
             #[cfg(feature = "mpi")]
             gathered: None,
+            #[cfg(feature = "mpi")]
+            gathered_history: None,
             stats: ContactStats::default(),
         }
     }
@@ -188,6 +193,23 @@ impl ContactStage {
     /// law is elastic.
     pub fn set_damping_state(&mut self, state: [f64; 2]) -> bool {
         self.ledger.as_mut().map(|l| l.set_state(state)).is_some()
+    }
+
+    /// The touching contacts' records after the last computation (a law
+    /// that keeps them: friction), or, on an MPI rank 0, every rank's,
+    /// gathered for a checkpoint.
+    pub(crate) fn history(&self) -> Option<&History> {
+        #[cfg(feature = "mpi")]
+        if let Some(g) = &self.gathered_history {
+            return Some(g);
+        }
+        self.history.as_ref()
+    }
+
+    /// Put back the records of [`ContactStage::history`] (resuming); false
+    /// when the law keeps none.
+    pub(crate) fn set_history(&mut self, h: History) -> bool {
+        self.history.as_mut().map(|mine| *mine = h).is_some()
     }
 
     /// The pair memories a checkpoint keeps ([`PairMemory::kept_by_checkpoints`]),
