@@ -53,6 +53,8 @@ pub struct DampedState {
     /// A frictional world's contacts' records (their springs) after the
     /// last force stage.
     pub(crate) history: Option<crate::contact::history::History>,
+    /// The energy those springs held, J.
+    pub spring: f64,
 }
 
 /// Wall time spent in each stage of the step, summed over steps.
@@ -133,7 +135,7 @@ impl<'s> World<'s> {
         if let Some(c) = &mut self.contacts {
             assert!(c.set_damping_state(d.ledger), "the law reads velocities");
             if let Some(h) = d.history {
-                assert!(c.set_history(h), "the law keeps records");
+                assert!(c.set_history(h, d.spring), "the law keeps records");
             }
         }
         for ((f, t), [df, dt]) in self.force.iter_mut().zip(&mut self.torque).zip(d.loads) {

@@ -159,6 +159,9 @@ pub struct DampingPart {
     /// every earlier force stage, and the dissipated energy at the
     /// checkpoint's state, J.
     pub ledger: [String; 2],
+    /// The energy the contacts' springs hold, J (frictional scenes).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spring: Option<String>,
 }
 
 impl DampingPart {
@@ -399,6 +402,7 @@ impl Checkpoint {
             restitution: scene.damping.map(|e| [bits(e.fibre), bits(e.wall)]),
             friction: scene.friction.map(|f| [bits(f.body), bits(f.wall)]),
             ledger: ledger.unwrap_or([0.0; 2]).map(bits),
+            spring: scene.friction.map(|_| bits(w.spring_energy())),
         });
         let loads = match damping {
             Some(_) => w
@@ -436,7 +440,7 @@ impl Checkpoint {
             history: w
                 .contacts
                 .as_ref()
-                .and_then(|c| c.history())
+                .and_then(|c| c.kept_history())
                 .cloned()
                 .unwrap_or_default(),
             damping,
@@ -693,6 +697,17 @@ pub fn restore_damping(c: &Checkpoint, scene: &Scene) -> Result<Option<DampedSta
             unbits(&part.ledger[1], "damping.ledger")?,
         ],
         history: friction.map(|_| c.history.clone()),
+        spring: match (&part.spring, friction) {
+            (Some(e), Some(_)) => unbits(e, "damping.spring")?,
+            (None, Some(_)) => {
+                return Err(Error::bad(
+                    "checkpoint",
+                    "damping.spring",
+                    "is missing: a frictional checkpoint keeps its springs' energy; resume from a checkpoint as a run wrote it",
+                ))
+            }
+            _ => 0.0,
+        },
     }))
 }
 
