@@ -152,6 +152,7 @@ impl WorkLedger {
     /// the last computation left no non-conservative load on it (the sums
     /// skip it). An MPI rank sends its bodies' shares for rank 0 to sum in
     /// the one-process order.
+    #[cfg(feature = "mpi")]
     pub(crate) fn body_work(
         &self,
         i: usize,
