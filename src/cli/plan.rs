@@ -728,7 +728,12 @@ impl SettleArgs {
         // the flags give another (the test only decides where it stops).
         let saved = checkpoint.as_ref().and_then(|c| c.settle.clone());
         if let (Some(c), Some(e)) = (&checkpoint, self.restitution) {
-            let kept = c.damping.as_ref().map(|d| d.restitution()).transpose()?;
+            let kept = c
+                .damping
+                .as_ref()
+                .map(|d| d.restitution())
+                .transpose()?
+                .flatten();
             if kept.is_none_or(|k| k.fibre != e || k.wall != e) {
                 let was = kept.map_or("none (elastic)".to_string(), |k| {
                     format!("{} (walls {})", k.fibre, k.wall)

@@ -72,6 +72,96 @@ pub(crate) fn sorted(mut store: Vec<Entry>) -> Vec<Entry> {
     store
 }
 
+/// Bytes of one entry in a checkpoint's states file: `u32` a, `u32` b,
+/// `u8` slot, then the record's three `f64` (ξ), little-endian, exact bits.
+pub(crate) const ENTRY_BYTES: usize = 33;
+
+/// A record's numbers, in the order they are stored and sent.
+#[inline]
+pub(crate) fn record_to_raw(r: &Record) -> [f64; 3] {
+    let Record { xi } = *r;
+    xi.to_array()
+}
+
+/// The record of [`record_to_raw`]'s numbers.
+#[inline]
+pub(crate) fn record_from_raw(d: [f64; 3]) -> Record {
+    Record {
+        xi: glam::DVec3::from_array(d),
+    }
+}
+
+impl History {
+    /// Append the store to a checkpoint's states file: per list (walls,
+    /// then pairs) a `u64` count and its entries ([`ENTRY_BYTES`] each).
+    pub(crate) fn encode(&self, out: &mut Vec<u8>) {
+        for store in [&self.walls, &self.pairs] {
+            out.extend_from_slice(&(store.len() as u64).to_le_bytes());
+            for (k, r) in store {
+                out.extend_from_slice(&k.a.to_le_bytes());
+                out.extend_from_slice(&k.b.to_le_bytes());
+                out.push(k.slot);
+                for x in record_to_raw(r) {
+                    out.extend_from_slice(&x.to_bits().to_le_bytes());
+                }
+            }
+        }
+    }
+
+    /// The store at the start of `b` (as [`History::encode`] wrote it) for
+    /// `n` bodies and `walls` walls, and the bytes it took; or what is
+    /// wrong: a truncated section, a key no run writes, keys out of order.
+    pub(crate) fn decode(b: &[u8], n: usize, walls: usize) -> Result<(Self, usize), String> {
+        let mut at = 0;
+        let mut h = History::default();
+        for (name, pairs) in [("wall", false), ("pair", true)] {
+            let count = b
+                .get(at..at + 8)
+                .map(|w| u64::from_le_bytes(w.try_into().expect("8 bytes")))
+                .ok_or("the contacts' records are truncated")? as usize;
+            at += 8;
+            let len = count
+                .checked_mul(ENTRY_BYTES)
+                .filter(|&l| at + l <= b.len())
+                .ok_or("the contacts' records are truncated")?;
+            let store = if pairs { &mut h.pairs } else { &mut h.walls };
+            store.reserve(count);
+            for e in b[at..at + len].chunks_exact(ENTRY_BYTES) {
+                let word = |i: usize| u32::from_le_bytes(e[i..i + 4].try_into().expect("4 bytes"));
+                let f = |i: usize| {
+                    f64::from_bits(u64::from_le_bytes(e[i..i + 8].try_into().expect("8 bytes")))
+                };
+                let key = ContactKey {
+                    a: word(0),
+                    b: word(4),
+                    slot: e[8],
+                };
+                let valid = (key.a as usize) < n
+                    && if pairs {
+                        key.a < key.b && (key.b as usize) < n
+                    } else {
+                        (key.b as usize) < walls
+                    };
+                if !valid {
+                    return Err(format!(
+                        "{name} contact ({}, {}, slot {}) is not one a run writes",
+                        key.a, key.b, key.slot
+                    ));
+                }
+                if store.last().is_some_and(|(k, _)| *k >= key) {
+                    return Err(format!(
+                        "{name} contacts out of order at ({}, {}, slot {})",
+                        key.a, key.b, key.slot
+                    ));
+                }
+                store.push((key, record_from_raw([f(9), f(17), f(25)])));
+            }
+            at += len;
+        }
+        Ok((h, at))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -99,5 +189,35 @@ mod tests {
         assert_eq!(*c, 2);
         assert_eq!(recall(&store, c, &key(0, 5, 0)), Record::default());
         assert_eq!(recall(&store, c, &key(3, 1, 0)), rec(3.0));
+    }
+
+    /// A store written into a states file reads back to the bit, and a
+    /// damaged one is refused.
+    #[test]
+    fn a_store_round_trips_through_its_bytes() {
+        let key = |a, b, slot| ContactKey { a, b, slot };
+        let rec = |x: f64| Record {
+            xi: DVec3::new(x, -x * 1e-3, f64::from_bits(x.to_bits() ^ 1)),
+        };
+        let h = History {
+            walls: vec![(key(0, 5, 1), rec(1e-7)), (key(2, 0, 0), rec(-3e-9))],
+            pairs: vec![(key(0, 4, 0), rec(2e-8)), (key(0, 4, 1), rec(-0.0))],
+        };
+        let mut b = vec![];
+        h.encode(&mut b);
+        assert_eq!(b.len(), 16 + 4 * ENTRY_BYTES);
+        let (back, used) = History::decode(&b, 5, 6).unwrap();
+        assert_eq!(used, b.len());
+        let bits = |h: &History| {
+            h.walls
+                .iter()
+                .chain(&h.pairs)
+                .map(|(k, r)| (*k, record_to_raw(r).map(f64::to_bits)))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(bits(&back), bits(&h));
+        assert!(History::decode(&b[..b.len() - 1], 5, 6).is_err());
+        assert!(History::decode(&b, 4, 6).is_err(), "body 4 of 4");
+        assert!(History::decode(&b, 5, 5).is_err(), "wall 5 of 5");
     }
 }

@@ -108,6 +108,12 @@ impl WorkLedger {
         } else {
             self.work::<false>(bodies, states, loads)
         };
+        self.close(closing, full);
+    }
+
+    /// The ledger after a computation whose bodies' shares sum to
+    /// `closing` and `full`.
+    pub(crate) fn close(&mut self, closing: f64, full: f64) {
         // Work of the non-conservative loads is negative; the ledger keeps
         // it positive.
         self.dissipated = self.done - closing;
@@ -125,7 +131,6 @@ impl WorkLedger {
         states: &[BodyState],
         (force, torque): (&[DVec3], &[DVec3]),
     ) -> (f64, f64) {
-        let (dt, g) = (self.dt, self.gravity);
         let (mut closing, mut full) = (0.0, 0.0);
         for ((((b, s), (&d, &dtau)), &f), &tau) in bodies
             .iter()
@@ -134,33 +139,79 @@ impl WorkLedger {
             .zip(force)
             .zip(torque)
         {
-            if d == DVec3::ZERO && dtau == DVec3::ZERO {
-                continue;
-            }
-            let kick = 0.5 * dt * (f * b.inv_mass + g);
-            let (q, omega_b) = (s.rot.q, s.rot.omega_b);
-            let spin = dtau.dot(q * omega_b);
-            if !KICK {
-                if self.first {
-                    // Step 0: `v` is v₀; only the opening half-kick is to come.
-                    full += 0.25 * dt * d.dot(2.0 * s.v + kick) + 0.5 * dt * spin;
-                } else {
-                    let v_full = s.v + kick;
-                    closing += 0.25 * dt * d.dot(s.v + v_full) + 0.5 * dt * spin;
-                    full += dt * (d.dot(v_full) + spin);
-                }
-                continue;
-            }
-            let dw = 0.5 * dt * b.inertia.angular_acceleration_world(q, omega_b, tau);
-            let spin_full = spin + dtau.dot(q * dw);
-            if self.first {
-                full += 0.25 * dt * (d.dot(2.0 * s.v + kick) + spin + spin_full);
-            } else {
-                let v_full = s.v + kick;
-                closing += 0.25 * dt * (d.dot(s.v + v_full) + spin + spin_full);
-                full += dt * (d.dot(v_full) + spin_full);
+            if let Some([c, w]) = self.share::<KICK>(b, s, (d, dtau), (f, tau)) {
+                closing += c;
+                full += w;
             }
         }
         (closing, full)
+    }
+
+    /// Body `i`'s share of [`WorkLedger::account`]'s two sums, `[closing,
+    /// full]` (`loads` its total contact force and torque), or `None` when
+    /// the last computation left no non-conservative load on it (the sums
+    /// skip it). An MPI rank sends its bodies' shares for rank 0 to sum in
+    /// the one-process order.
+    #[cfg(feature = "mpi")]
+    pub(crate) fn body_work(
+        &self,
+        i: usize,
+        b: &Body,
+        s: &BodyState,
+        loads: (DVec3, DVec3),
+    ) -> Option<[f64; 2]> {
+        let own = (self.force[i], self.torque[i]);
+        if self.spin_kick {
+            self.share::<true>(b, s, own, loads)
+        } else {
+            self.share::<false>(b, s, own, loads)
+        }
+    }
+
+    /// One body's shares of [`WorkLedger::work`]: its non-conservative
+    /// force and torque `(d, dtau)` under its total `(f, tau)`. At step 0
+    /// only the opening half-kick is to come: no closing share (adding 0
+    /// to a sum that starts at +0 leaves it as it is).
+    #[inline(always)]
+    fn share<const KICK: bool>(
+        &self,
+        b: &Body,
+        s: &BodyState,
+        (d, dtau): (DVec3, DVec3),
+        (f, tau): (DVec3, DVec3),
+    ) -> Option<[f64; 2]> {
+        if d == DVec3::ZERO && dtau == DVec3::ZERO {
+            return None;
+        }
+        let (dt, g) = (self.dt, self.gravity);
+        let kick = 0.5 * dt * (f * b.inv_mass + g);
+        let (q, omega_b) = (s.rot.q, s.rot.omega_b);
+        let spin = dtau.dot(q * omega_b);
+        if !KICK {
+            return Some(if self.first {
+                // Step 0: `v` is v₀.
+                [0.0, 0.25 * dt * d.dot(2.0 * s.v + kick) + 0.5 * dt * spin]
+            } else {
+                let v_full = s.v + kick;
+                [
+                    0.25 * dt * d.dot(s.v + v_full) + 0.5 * dt * spin,
+                    dt * (d.dot(v_full) + spin),
+                ]
+            });
+        }
+        let dw = 0.5 * dt * b.inertia.angular_acceleration_world(q, omega_b, tau);
+        let spin_full = spin + dtau.dot(q * dw);
+        Some(if self.first {
+            [
+                0.0,
+                0.25 * dt * (d.dot(2.0 * s.v + kick) + spin + spin_full),
+            ]
+        } else {
+            let v_full = s.v + kick;
+            [
+                0.25 * dt * (d.dot(s.v + v_full) + spin + spin_full),
+                dt * (d.dot(v_full) + spin_full),
+            ]
+        })
     }
 }

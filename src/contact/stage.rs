@@ -64,6 +64,9 @@ pub struct ContactStage {
     /// MPI rank 0: every rank's pair memories, gathered for a checkpoint.
     #[cfg(feature = "mpi")]
     gathered: Option<Vec<Entry>>,
+    /// MPI rank 0: every rank's contacts' records, gathered for a checkpoint.
+    #[cfg(feature = "mpi")]
+    gathered_history: Option<History>,
     /// What the last [`ContactStage::compute`] saw.
     pub stats: ContactStats,
 }
@@ -121,6 +124,8 @@ impl ContactStage {
             motion: vec![],
             #[cfg(feature = "mpi")]
             gathered: None,
+            #[cfg(feature = "mpi")]
+            gathered_history: None,
             stats: ContactStats::default(),
         }
     }
@@ -188,6 +193,25 @@ impl ContactStage {
     /// law is elastic.
     pub fn set_damping_state(&mut self, state: [f64; 2]) -> bool {
         self.ledger.as_mut().map(|l| l.set_state(state)).is_some()
+    }
+
+    /// The touching contacts' records a checkpoint keeps (a law that keeps
+    /// them: friction): those of the last computation, or, on an MPI rank
+    /// 0, every rank's, gathered.
+    pub(crate) fn kept_history(&self) -> Option<&History> {
+        #[cfg(feature = "mpi")]
+        if let Some(g) = &self.gathered_history {
+            return Some(g);
+        }
+        self.history.as_ref()
+    }
+
+    /// Put back the records of [`ContactStage::kept_history`] (resuming;
+    /// an MPI rank's at a rebuild); false when the law keeps none.
+    /// `spring` is their energy ([`ContactStage::spring_energy`]).
+    pub(crate) fn set_history(&mut self, h: History, spring: f64) -> bool {
+        self.spring = spring;
+        self.history.as_mut().map(|mine| *mine = h).is_some()
     }
 
     /// The pair memories a checkpoint keeps ([`PairMemory::kept_by_checkpoints`]),
@@ -458,6 +482,46 @@ impl ContactStage {
         self.gathered = Some(all);
     }
 
+    /// Rank 0: every rank's contacts' records that a checkpoint keeps
+    /// ([`ContactStage::kept_history`] then answers these).
+    pub(crate) fn set_gathered_history(&mut self, all: History) {
+        self.gathered_history = Some(all);
+    }
+
+    /// The records of this stage's last computation (a law that keeps
+    /// them).
+    pub(crate) fn history(&self) -> Option<&History> {
+        self.history.as_ref()
+    }
+
+    /// Whether the law reads the bodies' velocities (a ghost then needs
+    /// them with its pose).
+    pub(crate) fn reads_motion(&self) -> bool {
+        self.laws.reads_motion()
+    }
+
+    /// Body `i`'s share of the ledger's sums after the last
+    /// [`Self::compute_listed`] (`WorkLedger::body_work`; `None`: no
+    /// non-conservative load, or an elastic frictionless law), `loads` its
+    /// total contact force and torque.
+    pub(crate) fn body_work(
+        &self,
+        i: usize,
+        b: &Body,
+        s: &BodyState,
+        loads: (DVec3, DVec3),
+    ) -> Option<[f64; 2]> {
+        self.ledger.as_ref()?.body_work(i, b, s, loads)
+    }
+
+    /// Rank 0: close the ledger with the one-process sums of every body's
+    /// share ([`WorkLedger::close`]).
+    pub(crate) fn close_work(&mut self, closing: f64, full: f64) {
+        if let Some(l) = &mut self.ledger {
+            l.close(closing, full);
+        }
+    }
+
     /// The box walls, in the order the neighbour list numbers them.
     pub(crate) fn walls(&self) -> &[Wall] {
         &self.walls
@@ -471,8 +535,11 @@ impl ContactStage {
     /// Forces and torques from the candidates of `list` (global indices)
     /// at `states`, for the bodies `local` (ascending; the geometry of no
     /// other body is read), whose pairs' memories spend `motion` (by
-    /// global index, from each body's owner). Bodies outside `local` get partial sums, which
-    /// the rank ignores.
+    /// global index, from each body's owner). Bodies outside `local` get
+    /// partial sums, which the rank ignores; so do their non-conservative
+    /// loads (for the ledger's shares, [`Self::body_work`]). The contacts'
+    /// records are read from and written to this stage's store, which the
+    /// rank keeps holding those of its candidates.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn compute_listed(
         &mut self,
@@ -491,8 +558,9 @@ impl ContactStage {
             self.geoms[i] = geom(&bodies[i], &states[i]);
             self.motion[i] = motion[i];
         }
-        // (Damped scenes are not decomposed: the ledger sums every body.)
-        assert!(self.ledger.is_none(), "an elastic law on MPI ranks");
+        // Frictional scenes are not decomposed yet (`ranks::refuse`): their
+        // springs' energy is not summed across ranks.
+        assert!(self.history.is_none(), "a frictionless law on MPI ranks");
         let laws = Laws::<Frictionless>::new(&self.laws, bodies, states);
         candidate_loop(
             &mut self.blocks,
@@ -501,8 +569,8 @@ impl ContactStage {
             &laws,
             (force, torque),
             &mut self.counters,
-            None,
-            None,
+            self.ledger.as_mut().map(WorkLedger::loads),
+            self.history.as_mut(),
             true,
             workers(bodies.len()),
         );

@@ -42,14 +42,19 @@ pub struct World<'s> {
     pub timers: Option<StageTimes>,
 }
 
-/// What a damped world needs besides its states to continue bit for bit
-/// ([`World::restore_damping`]; a checkpoint stores it).
+/// What a damped or frictional world needs besides its states to continue
+/// bit for bit ([`World::restore_damping`]; a checkpoint stores it).
 #[derive(Debug, Clone)]
 pub struct DampedState {
     /// The last force stage's total contact force and torque per body.
     pub loads: Vec<[DVec3; 2]>,
     /// The ledger of the non-conservative loads (`done`, `dissipated`), J.
     pub ledger: [f64; 2],
+    /// A frictional world's contacts' records (their springs) after the
+    /// last force stage.
+    pub(crate) history: Option<crate::contact::history::History>,
+    /// The energy those springs held, J.
+    pub spring: f64,
 }
 
 /// Wall time spent in each stage of the step, summed over steps.
@@ -120,14 +125,18 @@ impl<'s> World<'s> {
         self.ledger = self.measure();
     }
 
-    /// The rest of a damped world's checkpoint, after [`World::restore`]:
-    /// its forces came from half-step velocities, so the recomputed ones
-    /// are replaced by the stored ones, and the damping ledger is put back
-    /// (the recomputation's positions-only statistics, elastic energy and
-    /// overlaps, are the step's).
+    /// The rest of a damped or frictional world's checkpoint, after
+    /// [`World::restore`]: its forces came from half-step velocities, so
+    /// the recomputed ones are replaced by the stored ones, the ledger of
+    /// the non-conservative loads is put back, and so are the contacts'
+    /// records, which the recomputation advanced (its positions-only
+    /// statistics, elastic energy and overlaps, are the step's).
     pub fn restore_damping(&mut self, d: DampedState) {
         if let Some(c) = &mut self.contacts {
-            assert!(c.set_damping_state(d.ledger), "the scene is damped");
+            assert!(c.set_damping_state(d.ledger), "the law reads velocities");
+            if let Some(h) = d.history {
+                assert!(c.set_history(h, d.spring), "the law keeps records");
+            }
         }
         for ((f, t), [df, dt]) in self.force.iter_mut().zip(&mut self.torque).zip(d.loads) {
             (*f, *t) = (df, dt);

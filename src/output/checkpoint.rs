@@ -11,15 +11,22 @@
 //! (length and tail hash, [`super::mark`]; cut back to the length on
 //! resume, refused if the bytes differ) and its own state, by name.
 //!
-//! A damped scene (`[contact] restitution < 1`) also stores what its step
-//! carries between steps beyond the states: the force stage saw the
-//! half-step velocities, so its forces cannot be recomputed from the
-//! full-step states. That is the last total contact force and torque per
-//! body (48 bytes per fibre, in the states file) and the damping ledger
-//! (`done`, `dissipated`: two numbers in the JSON, with the restitution the
-//! run used). Elastic checkpoints are written as before, byte for byte.
+//! A scene whose contact law reads velocities (damped: `[contact]
+//! restitution < 1`; frictional: `friction` or `wall_friction > 0`) also
+//! stores what its step carries between steps beyond the states: the
+//! force stage saw the half-step velocities, so its forces cannot be
+//! recomputed from the full-step states. That is the last total contact
+//! force and torque per body (48 bytes per body, in the states file) and
+//! the ledger of the non-conservative loads (`done`, `dissipated`: two
+//! numbers in the JSON, with the restitution and the friction the run
+//! used). A frictional scene also stores each touching contact's record
+//! (its tangential spring, `contact/history.rs`) in the states file. A
+//! frictionless checkpoint has no record section: its files are those of
+//! the previous format but for the format's name, which is still read.
 
 use crate::body::BodyState;
+use crate::contact::history::History;
+use crate::contact::tangential::Friction;
 use crate::error::{Error, Result};
 use crate::integrate::rotate::Rotator;
 use crate::integrate::step::World;
@@ -32,7 +39,11 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// The format this version writes and reads.
-pub const FORMAT: &str = "fibresim-checkpoint-5";
+pub const FORMAT: &str = "fibresim-checkpoint-6";
+
+/// The previous format, still read: the same files without the contacts'
+/// records, which only a frictional scene needs (refused there).
+pub const FORMAT_WITHOUT_RECORDS: &str = "fibresim-checkpoint-5";
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
 /// A checkpoint (`checkpoint.json`).
@@ -85,13 +96,19 @@ pub struct Checkpoint {
     pub outputs: BTreeMap<String, super::mark::Mark>,
     /// Each observer's own state by its name, bits.
     pub observers: BTreeMap<String, Vec<String>>,
-    /// Damped scenes only: the restitution and the damping ledger.
+    /// Damped or frictional scenes only: the restitution, the friction and
+    /// the ledger of the non-conservative loads.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub damping: Option<DampingPart>,
-    /// Damped scenes only: the last force stage's contact force and torque
-    /// per body, `[F, τ]` by body in the order of `states` (in the states file).
+    /// Damped or frictional scenes only: the last force stage's contact
+    /// force and torque per body, `[F, τ]` by body in the order of `states`
+    /// (in the states file).
     #[serde(skip)]
     pub loads: Vec<[DVec3; 2]>,
+    /// Frictional scenes only: the touching contacts' records (in the
+    /// states file).
+    #[serde(skip)]
+    pub(crate) history: History,
     /// The fibre pairs' memories of their last end-involved scans that
     /// change what the kernels answer (`contact/memory.rs`), by pair (in
     /// the states file).
@@ -126,23 +143,52 @@ impl SettlePart {
     }
 }
 
-/// The damping part of a checkpoint's JSON (damped scenes only), bits.
+/// The part of a checkpoint's JSON of a scene whose contact law reads
+/// velocities (damped or frictional scenes only), bits.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct DampingPart {
-    /// The restitution the run used: fibre–fibre, fibre–wall.
-    pub restitution: [String; 2],
-    /// The damping ledger between steps: the work of every earlier force
-    /// stage, and the dissipated energy at the checkpoint's state, J.
+    /// The restitution the run used: fibre–fibre, fibre–wall (damped
+    /// scenes).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub restitution: Option<[String; 2]>,
+    /// The Coulomb coefficients the run used: body–body, body–wall
+    /// (frictional scenes).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<[String; 2]>,
+    /// The ledger of the non-conservative loads between steps: the work of
+    /// every earlier force stage, and the dissipated energy at the
+    /// checkpoint's state, J.
     pub ledger: [String; 2],
+    /// The energy the contacts' springs hold, J (frictional scenes).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spring: Option<String>,
 }
 
 impl DampingPart {
-    /// The restitution, or what is wrong with it.
-    pub fn restitution(&self) -> Result<crate::contact::damping::Restitution> {
-        Ok(crate::contact::damping::Restitution {
-            fibre: unbits(&self.restitution[0], "damping.restitution")?,
-            wall: unbits(&self.restitution[1], "damping.restitution")?,
-        })
+    /// The restitution (`None`: elastic), or what is wrong with it.
+    pub fn restitution(&self) -> Result<Option<crate::contact::damping::Restitution>> {
+        self.restitution
+            .as_ref()
+            .map(|[fibre, wall]| {
+                Ok(crate::contact::damping::Restitution {
+                    fibre: unbits(fibre, "damping.restitution")?,
+                    wall: unbits(wall, "damping.restitution")?,
+                })
+            })
+            .transpose()
+    }
+
+    /// The friction (`None`: frictionless), or what is wrong with it.
+    pub fn friction(&self) -> Result<Option<Friction>> {
+        self.friction
+            .as_ref()
+            .map(|[body, wall]| {
+                Ok(Friction {
+                    body: unbits(body, "damping.friction")?,
+                    wall: unbits(wall, "damping.friction")?,
+                })
+            })
+            .transpose()
     }
 }
 
@@ -171,14 +217,19 @@ fn unbits_all(v: &[String], what: &str) -> Result<Vec<f64>> {
 /// The binary states file of a checkpoint (`checkpoint.<step>.states`): the magic
 /// `FIBRESIM`, then little-endian `u64` body count and `u64` doubles of
 /// rotator state per body, then per body its `u64` id and 13 `f64` (x, v,
-/// q as w x y z, ω_b), then the rotator state; damped scenes then add per
-/// body 6 `f64` (the contact force and torque, world); last a `u64`
-/// count of pair memories and each as `u32` i, `u32` j and the three `u16`
-/// of [`PairMemory::to_raw`]. 112 bytes per fibre for the shipped rotators
-/// (160 damped), 14 per remembered pair; floats are their exact bits.
+/// q as w x y z, ω_b), then the rotator state; damped and frictional
+/// scenes then add per body 6 `f64` (the contact force and torque, world);
+/// then a `u64` count of pair memories and each as `u32` i, `u32` j and the
+/// three `u16` of [`PairMemory::to_raw`]; frictional scenes last add the
+/// touching contacts' records ([`History::encode`](crate::contact::history::History):
+/// walls, then pairs, each a `u64` count and per contact `u32` a, `u32` b,
+/// `u8` slot and the spring's three `f64`). 112 bytes per fibre for the
+/// shipped rotators (160 damped or frictional), 14 per remembered pair, 33
+/// per touching frictional contact; floats are their exact bits.
 pub mod states {
     use crate::body::{BodyState, RotState};
     use crate::contact::fibre_fibre::PairMemory;
+    use crate::contact::history::History;
     use crate::contact::memory::Entry;
     use crate::scenario::Ids;
     use glam::{DQuat, DVec3};
@@ -195,13 +246,15 @@ pub mod states {
         h
     }
 
-    /// The file's bytes (`loads`: empty, or one `[F, τ]` per body).
-    pub fn encode(
+    /// The file's bytes (`loads`: empty, or one `[F, τ]` per body;
+    /// `history`: a frictional scene's records).
+    pub(crate) fn encode(
         ids: &Ids,
         states: &[BodyState],
         aux: &[f64],
         loads: &[[DVec3; 2]],
         memory: &[Entry],
+        history: Option<&History>,
     ) -> Vec<u8> {
         let n = states.len();
         let per = aux.len().checked_div(n).unwrap_or(0);
@@ -235,16 +288,32 @@ pub mod states {
                 out.extend_from_slice(&x.to_le_bytes());
             }
         }
+        if let Some(h) = history {
+            h.encode(&mut out);
+        }
         out
     }
 
     /// What a states file holds: ids, states, rotator state, loads, pair
-    /// memories.
-    pub type Decoded = (Ids, Vec<BodyState>, Vec<f64>, Vec<[DVec3; 2]>, Vec<Entry>);
+    /// memories, contacts' records.
+    pub(crate) type Decoded = (
+        Ids,
+        Vec<BodyState>,
+        Vec<f64>,
+        Vec<[DVec3; 2]>,
+        Vec<Entry>,
+        History,
+    );
 
-    /// The ids, states, rotator state and (when `with_loads`: a damped
-    /// scene's) loads of a file's bytes, or what is wrong.
-    pub fn decode(b: &[u8], with_loads: bool) -> Result<Decoded, String> {
+    /// The ids, states, rotator state, (when `with_loads`: a damped or
+    /// frictional scene's) loads, pair memories and (when `with_history`:
+    /// a frictional scene's, for `walls` walls) contacts' records of a
+    /// file's bytes, or what is wrong.
+    pub(crate) fn decode(
+        b: &[u8],
+        with_loads: bool,
+        with_history: Option<usize>,
+    ) -> Result<Decoded, String> {
         let word = |at: usize| -> Result<u64, String> {
             b.get(at..at + 8)
                 .map(|w| u64::from_le_bytes(w.try_into().expect("8 bytes")))
@@ -261,7 +330,15 @@ pub mod states {
             + n.saturating_mul(per).saturating_mul(8)
             + n.saturating_mul(loads_per);
         let remembered = word(before_memory)? as usize;
-        let want = before_memory.saturating_add(8 + remembered.saturating_mul(14));
+        let after_memory = before_memory.saturating_add(8 + remembered.saturating_mul(14));
+        let (history, want) = match with_history {
+            Some(walls) => {
+                let tail = b.get(after_memory..).ok_or("the file is truncated")?;
+                let (h, used) = History::decode(tail, n, walls)?;
+                (h, after_memory + used)
+            }
+            None => (History::default(), after_memory),
+        };
         if b.len() != want {
             return Err(format!(
                 "{} bytes, expected {want} for {n} bodies and {remembered} pair memories",
@@ -310,7 +387,7 @@ pub mod states {
             }
             memory.push(((i, j), m));
         }
-        Ok((ids.into(), states, aux, loads, memory))
+        Ok((ids.into(), states, aux, loads, memory, history))
     }
 }
 
@@ -318,11 +395,14 @@ impl Checkpoint {
     /// The driver's part of a checkpoint of `w` (observers add theirs).
     pub fn of<R: Rotator>(w: &World, stats: &RunStats) -> Self {
         let scene = w.scene;
-        // A damped scene where nothing can touch has no stage: nothing dissipated.
+        // A damped or frictional scene where nothing can touch has no
+        // stage: nothing dissipated, no record.
         let ledger = w.contacts.as_ref().and_then(|c| c.damping_state());
-        let damping = scene.damping.map(|e| DampingPart {
-            restitution: [bits(e.fibre), bits(e.wall)],
+        let damping = (scene.damping.is_some() || scene.friction.is_some()).then(|| DampingPart {
+            restitution: scene.damping.map(|e| [bits(e.fibre), bits(e.wall)]),
+            friction: scene.friction.map(|f| [bits(f.body), bits(f.wall)]),
             ledger: ledger.unwrap_or([0.0; 2]).map(bits),
+            spring: scene.friction.map(|_| bits(w.spring_energy())),
         });
         let loads = match damping {
             Some(_) => w
@@ -357,6 +437,12 @@ impl Checkpoint {
             run_stats: stats.to_array().map(bits).to_vec(),
             outputs: BTreeMap::new(),
             observers: BTreeMap::new(),
+            history: w
+                .contacts
+                .as_ref()
+                .and_then(|c| c.kept_history())
+                .cloned()
+                .unwrap_or_default(),
             damping,
             loads,
             memory: w
@@ -381,6 +467,10 @@ impl Checkpoint {
             &self.aux,
             &self.loads,
             &self.memory,
+            self.damping
+                .as_ref()
+                .is_some_and(|d| d.friction.is_some())
+                .then_some(&self.history),
         );
         self.states_file = states_path
             .file_name()
@@ -406,7 +496,7 @@ impl Checkpoint {
         let format = serde_json::from_str::<serde_json::Value>(&text)
             .ok()
             .and_then(|v| v.get("format").and_then(|f| f.as_str()).map(str::to_string));
-        if let Some(f) = format.filter(|f| f != FORMAT) {
+        if let Some(f) = format.filter(|f| f != FORMAT && f != FORMAT_WITHOUT_RECORDS) {
             return Err(Error::bad(
                 &file,
                 "format",
@@ -448,8 +538,10 @@ impl Checkpoint {
                 "does not belong to this checkpoint (length or hash differs): it was written by another checkpoint, or the write was interrupted; resume from a complete checkpoint",
             ));
         }
-        (c.ids, c.states, c.aux, c.loads, c.memory) =
-            states::decode(&bytes, c.damping.is_some())
+        // Records of a frictional scene (in a box of six walls, or none).
+        let records = c.damping.as_ref().is_some_and(|d| d.friction.is_some());
+        (c.ids, c.states, c.aux, c.loads, c.memory, c.history) =
+            states::decode(&bytes, c.damping.is_some(), records.then_some(6))
                 .map_err(|e| Error::bad(&where_, "states_file", e))?;
         Ok(c)
     }
@@ -529,37 +621,64 @@ pub fn restore(
     Ok((c.states.clone(), c.aux.clone(), RunStats::from_array(stats)))
 }
 
-/// The damped part of a checkpoint of `scene` (`None` for an elastic
-/// scene), checked against it: a damped scene needs it, with the scene's
-/// restitution to the bit.
+/// The part of a checkpoint of `scene` that a damped or frictional scene
+/// needs (`None` for an elastic frictionless scene), checked against it: a
+/// damped scene needs its restitution to the bit, a frictional one its
+/// friction and its contacts' records.
 pub fn restore_damping(c: &Checkpoint, scene: &Scene) -> Result<Option<DampedState>> {
-    let part = match (scene.damping, &c.damping) {
-        (None, None) => return Ok(None),
-        (Some(_), None) => return Err(Error::bad(
+    let reads_motion = scene.damping.is_some() || scene.friction.is_some();
+    let part = match (reads_motion, &c.damping) {
+        (false, None) => return Ok(None),
+        (true, None) => return Err(Error::bad(
             "checkpoint",
             "damping",
-            "holds no damping state, but its scene is damped ([contact] restitution < 1): it was written by a fibresim that did not checkpoint damped scenes; rerun from the start",
+            "holds no damping state, but its scene is damped or frictional ([contact] restitution < 1, friction > 0): it does not match its scenario; rerun from the start",
         )),
+        (false, Some(_)) => return Err(Error::bad(
+            "checkpoint",
+            "damping",
+            "holds a damping state, but its scene is elastic and frictionless: it does not match its scenario",
+        )),
+        (true, Some(part)) => part,
+    };
+    let saved = part.restitution()?;
+    let same = |a: f64, b: f64| a.to_bits() == b.to_bits();
+    let agree = match (saved, scene.damping) {
+        (None, None) => true,
+        (Some(s), Some(e)) => same(s.fibre, e.fibre) && same(s.wall, e.wall),
+        _ => false,
+    };
+    if !agree {
+        let show = |r: Option<crate::contact::damping::Restitution>| {
+            r.map_or("none (elastic)".to_string(), |r| {
+                format!("{} (walls {})", r.fibre, r.wall)
+            })
+        };
+        return Err(Error::bad(
+            "checkpoint",
+            "damping.restitution",
+            format!(
+                "was taken with restitution {}, the resumed scene has {}: a resumed run keeps its restitution; rerun from the start to change it",
+                show(saved),
+                show(scene.damping)
+            ),
+        ));
+    }
+    let friction = part.friction()?;
+    match (friction, scene.friction) {
+        (None, None) => {}
+        (Some(s), Some(f)) if same(s.body, f.body) && same(s.wall, f.wall) => {}
         (None, Some(_)) => return Err(Error::bad(
             "checkpoint",
-            "damping",
-            "holds a damping state, but its scene is elastic: it does not match its scenario",
+            "damping.friction",
+            "holds no contact springs, but its scene is frictional: it was written by a fibresim that did not checkpoint frictional scenes; rerun from the start",
         )),
-        (Some(e), Some(part)) => {
-            let saved = part.restitution()?;
-            if saved.fibre.to_bits() != e.fibre.to_bits() || saved.wall.to_bits() != e.wall.to_bits() {
-                return Err(Error::bad(
-                    "checkpoint",
-                    "damping.restitution",
-                    format!(
-                        "was taken with restitution {} (walls {}), the resumed scene has {} (walls {}): a resumed run keeps its restitution; rerun from the start to change it",
-                        saved.fibre, saved.wall, e.fibre, e.wall
-                    ),
-                ));
-            }
-            part
-        }
-    };
+        _ => return Err(Error::bad(
+            "checkpoint",
+            "damping.friction",
+            "was taken with another friction than the resumed scene's: a resumed run keeps its friction; rerun from the start to change it",
+        )),
+    }
     if c.loads.len() != scene.bodies.len() {
         return Err(Error::bad(
             "checkpoint",
@@ -577,6 +696,18 @@ pub fn restore_damping(c: &Checkpoint, scene: &Scene) -> Result<Option<DampedSta
             unbits(&part.ledger[0], "damping.ledger")?,
             unbits(&part.ledger[1], "damping.ledger")?,
         ],
+        history: friction.map(|_| c.history.clone()),
+        spring: match (&part.spring, friction) {
+            (Some(e), Some(_)) => unbits(e, "damping.spring")?,
+            (None, Some(_)) => {
+                return Err(Error::bad(
+                    "checkpoint",
+                    "damping.spring",
+                    "is missing: a frictional checkpoint keeps its springs' energy; resume from a checkpoint as a run wrote it",
+                ))
+            }
+            _ => 0.0,
+        },
     }))
 }
 

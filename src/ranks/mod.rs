@@ -18,6 +18,7 @@
 
 mod comm;
 mod memory;
+mod records;
 mod slabs;
 mod stepper;
 mod tally;
@@ -63,14 +64,7 @@ fn refuse(scene: &Scene) -> Result<()> {
         return Err(Error::bad(
             &scene.source,
             "friction",
-            "frictional scenes ([contact] friction or wall_friction > 0) are not decomposed yet; run them without mpirun",
-        ));
-    }
-    if scene.damping.is_some() {
-        return Err(Error::bad(
-            &scene.source,
-            "restitution",
-            "damped scenes (settling) are not decomposed yet; run them without mpirun",
+            "frictional scenes ([contact] friction or wall_friction > 0) are not decomposed yet (the energy of their springs is not summed across ranks); run them without mpirun",
         ));
     }
     Ok(())

@@ -22,6 +22,7 @@
 
 use super::comm::Comm;
 use super::memory;
+use super::records;
 use super::slabs::Slabs;
 use super::tally::{self, HitKey};
 use crate::body::BodyState;
@@ -47,6 +48,12 @@ const STATE: usize = 13;
 /// Doubles of one ghost's pose and motion: x, q, the motion bound of its
 /// last step (its pairs' memories spend it).
 const POSE: usize = 8;
+/// Doubles of a ghost's velocities, sent after its pose when the contact
+/// law reads them (damping, friction): v, ω_b.
+const VELOCITIES: usize = 6;
+/// Doubles of one body's share of the ledger of the non-conservative
+/// loads per force stage: whether it has one, and its two terms.
+const WORK: usize = 3;
 
 /// One rank's share of the run and its clocks.
 pub(crate) struct RankStep<'c> {
@@ -73,8 +80,17 @@ pub(crate) struct RankStep<'c> {
     recvs: Vec<Vec<u32>>,
     /// This step's message to rank 0: flags, ledger terms, hits.
     msg: Vec<f64>,
+    /// This step's shares of the owned bodies in the ledger of the
+    /// non-conservative loads, [`WORK`] per body and force stage (a law
+    /// that reads velocities).
+    work: Vec<f64>,
+    /// Force stages this step.
+    force_stages: usize,
     /// Rank 0: per-body ledger terms by global index.
     terms: Vec<[f64; 3]>,
+    /// Rank 0: per force stage and body (by global index) its [`WORK`]
+    /// share.
+    shares: Vec<[f64; WORK]>,
     pub clocks: Clocks,
 }
 
@@ -106,7 +122,10 @@ impl<'c> RankStep<'c> {
             sends: vec![],
             recvs: vec![],
             msg: vec![],
+            work: vec![],
+            force_stages: 0,
             terms: vec![],
+            shares: vec![],
             clocks: Clocks::default(),
         }
     }
@@ -116,8 +135,9 @@ impl<'c> RankStep<'c> {
     }
 
     /// Cut the slabs from the (current, complete) states of `w` and build
-    /// this rank's candidates.
-    fn decompose(&mut self, w: &World) {
+    /// this rank's candidates, with their pairs' memories and their
+    /// contacts' records.
+    fn decompose(&mut self, w: &mut World) {
         let scene = w.scene;
         // The pairs' touching memories, while the old slabs and list hold:
         // at the start the one-process stage's (its step 0, or a resume's),
@@ -129,6 +149,15 @@ impl<'c> RankStep<'c> {
                 let mine = self.owned_memories(PairMemory::is_touching);
                 memory::decode(&self.comm.all_gather_any(&memory::encode(mine.into_iter())))
             }
+        };
+        // The contacts' records, likewise: at the start the stage's (every
+        // contact's), then every rank's own.
+        let records = match (w.contacts.as_ref().and_then(|c| c.history()), &self.list) {
+            (Some(h), Some(_)) => {
+                let mine = self.owned_records(h);
+                Some(records::decode(&self.comm.all_gather_any(&mine)))
+            }
+            _ => None,
         };
         let centres: Vec<DVec3> = w.states.iter().map(|s| s.x).collect();
         let slabs = Slabs::new(&centres, self.comm.size, self.width);
@@ -147,6 +176,14 @@ impl<'c> RankStep<'c> {
         self.recvs = (0..self.comm.size)
             .map(|from| self.slabs.sends(from, me))
             .collect();
+        if let (Some(mut h), Some(stage)) = (records, &mut w.contacts) {
+            // Those of the contacts of the bodies this rank now owns.
+            let owner = &self.slabs.owner;
+            let mine = |i: u32| owner[i as usize] as usize == me;
+            h.walls.retain(|(k, _)| mine(k.a));
+            h.pairs.retain(|(k, _)| mine(k.a) || mine(k.b));
+            stage.set_history(h, stage.spring_energy());
+        }
         let Some(stage) = &w.contacts else { return };
         let (bodies, states) = (&scene.bodies, &w.states);
         let geoms: Vec<FibreGeom> = self
@@ -206,11 +243,19 @@ impl<'c> RankStep<'c> {
             .collect()
     }
 
-    /// Every rank's owned states (and rotator state) on every rank, or on
-    /// rank 0 only (`everywhere` false).
-    fn gather_states(&mut self, w: &mut World, everywhere: bool) {
+    /// The wire doubles of this rank's contacts' records in `h`: each
+    /// contact once, by the owner of its body A.
+    fn owned_records(&self, h: &crate::contact::history::History) -> Vec<f64> {
+        let (owner, me) = (&self.slabs.owner, self.rank());
+        records::encode(h, |_, k| owner[k.a as usize] as usize == me)
+    }
+
+    /// Every rank's owned states (and rotator state; with `loads`, the
+    /// last contact force and torque) on every rank, or on rank 0 only
+    /// (`everywhere` false).
+    fn gather_states(&mut self, w: &mut World, everywhere: bool, loads: bool) {
         let len = w.aux.len() / w.states.len().max(1);
-        let per = STATE + len;
+        let per = STATE + len + if loads { 6 } else { 0 };
         let me = self.rank();
         let mut send = Vec::with_capacity(per * self.slabs.owned[me].len());
         for &i in &self.slabs.owned[me] {
@@ -222,6 +267,10 @@ impl<'c> RankStep<'c> {
             send.extend([q.x, q.y, q.z, q.w]);
             send.extend(s.rot.omega_b.to_array());
             send.extend(&w.aux[i * len..(i + 1) * len]);
+            if loads {
+                send.extend(w.force[i].to_array());
+                send.extend(w.torque[i].to_array());
+            }
         }
         let all = if everywhere {
             let counts: Vec<Count> = self
@@ -246,12 +295,19 @@ impl<'c> RankStep<'c> {
                     omega_b: DVec3::new(d[10], d[11], d[12]),
                 },
             };
-            w.aux[i * len..(i + 1) * len].copy_from_slice(&d[STATE..]);
+            w.aux[i * len..(i + 1) * len].copy_from_slice(&d[STATE..STATE + len]);
+            if loads {
+                let l = &d[STATE + len..];
+                w.force[i] = DVec3::new(l[0], l[1], l[2]);
+                w.torque[i] = DVec3::new(l[3], l[4], l[5]);
+            }
         }
     }
 
-    /// The ghosts' poses from their owners.
-    fn exchange(&mut self, w: &mut World) {
+    /// The ghosts' poses from their owners, and their velocities when the
+    /// law reads them (`velocities`).
+    fn exchange(&mut self, w: &mut World, velocities: bool) {
+        let per = POSE + if velocities { VELOCITIES } else { 0 };
         let mut send = Vec::new();
         let mut send_counts = Vec::with_capacity(self.comm.size);
         for to in &self.sends {
@@ -261,21 +317,29 @@ impl<'c> RankStep<'c> {
                 send.extend(s.x.to_array());
                 send.extend([q.x, q.y, q.z, q.w]);
                 send.push(f64::from(self.motion[i as usize]));
+                if velocities {
+                    send.extend(s.v.to_array());
+                    send.extend(s.rot.omega_b.to_array());
+                }
             }
-            send_counts.push((to.len() * POSE) as Count);
+            send_counts.push((to.len() * per) as Count);
         }
         let recv_counts: Vec<Count> = self
             .recvs
             .iter()
-            .map(|r| (r.len() * POSE) as Count)
+            .map(|r| (r.len() * per) as Count)
             .collect();
         let got = self.comm.all_to_all(&send, &send_counts, &recv_counts);
-        for (&i, d) in self.recvs.iter().flatten().zip(got.chunks_exact(POSE)) {
+        for (&i, d) in self.recvs.iter().flatten().zip(got.chunks_exact(per)) {
             let s = &mut w.states[i as usize];
             s.x = DVec3::new(d[0], d[1], d[2]);
             s.rot.q = DQuat::from_xyzw(d[3], d[4], d[5], d[6]);
             // (An f32 sent as f64: exact.)
             self.motion[i as usize] = d[7] as f32;
+            if velocities {
+                s.v = DVec3::new(d[8], d[9], d[10]);
+                s.rot.omega_b = DVec3::new(d[11], d[12], d[13]);
+            }
         }
     }
 
@@ -307,10 +371,11 @@ impl<'c> RankStep<'c> {
             for (&i, &m) in self.slabs.owned.iter().flatten().zip(&all) {
                 self.motion[i as usize] = m as f32;
             }
-            self.gather_states(w, true);
+            self.gather_states(w, true, false);
             self.decompose(w);
         } else {
-            self.exchange(w);
+            let velocities = w.contacts.as_ref().is_some_and(|c| c.reads_motion());
+            self.exchange(w, velocities);
         }
         let t = Instant::now();
         let scene = w.scene;
@@ -326,6 +391,19 @@ impl<'c> RankStep<'c> {
             &mut w.force,
             &mut w.torque,
         );
+        if stage.reads_motion() {
+            // The owned bodies' shares of the ledger, for rank 0 to sum.
+            for &i in &self.slabs.owned[me] {
+                let i = i as usize;
+                let share =
+                    stage.body_work(i, &scene.bodies[i], &w.states[i], (w.force[i], w.torque[i]));
+                self.work.extend(match share {
+                    Some([c, f]) => [1.0, c, f],
+                    None => [0.0; WORK],
+                });
+            }
+        }
+        self.force_stages += 1;
         self.clocks.forces += t.elapsed();
     }
 
@@ -400,7 +478,11 @@ impl<'c> RankStep<'c> {
         let mut head = vec![sound as u8 as f64, interrupted as u8 as f64];
         head.extend([0.0; tally::PEAK]);
         head.append(&mut self.msg);
+        head.append(&mut self.work);
         self.msg = head;
+        let stages = std::mem::take(&mut self.force_stages);
+        let reads_motion = w.contacts.as_ref().is_some_and(|c| c.reads_motion());
+        let work = if reads_motion { WORK * stages } else { 0 };
         let mut peak = tally::Peak::default();
         if let (Some(stage), Some(list)) = (&w.contacts, &self.list) {
             let owner = &self.slabs.owner;
@@ -440,10 +522,11 @@ impl<'c> RankStep<'c> {
         self.msg[2..2 + tally::PEAK].copy_from_slice(&peak.to_array());
         let gathered = self.comm.gather(&self.msg);
         self.msg.clear();
-        let mut out = [0.0; 9];
+        let mut out = [0.0; 11];
         if let Some((all, counts)) = gathered {
             let n = w.states.len();
             self.terms.resize(n, [0.0; 3]);
+            self.shares.resize(n * work / WORK, [0.0; WORK]);
             let (mut sound_all, mut stop) = (true, false);
             let mut hits = Vec::new();
             let mut peaks = Vec::new();
@@ -459,7 +542,27 @@ impl<'c> RankStep<'c> {
                 for (&i, t) in owned.iter().zip(terms.chunks_exact(3)) {
                     self.terms[i as usize] = [t[0], t[1], t[2]];
                 }
+                let (shares, rest) = rest.split_at(work * owned.len());
+                // Stage by stage, each the owned bodies' shares in order.
+                for (k, stage) in shares.chunks_exact(WORK * owned.len().max(1)).enumerate() {
+                    for (&i, d) in owned.iter().zip(stage.chunks_exact(WORK)) {
+                        self.shares[k * n + i as usize] = [d[0], d[1], d[2]];
+                    }
+                }
                 hits.extend_from_slice(rest);
+            }
+            if let Some(stage) = w.contacts.as_mut().filter(|_| work > 0) {
+                // The ledger's sums in body order, as `WorkLedger::account`.
+                for per_stage in self.shares.chunks_exact(n.max(1)) {
+                    let (mut closing, mut full) = (0.0, 0.0);
+                    for &[has, c, f] in per_stage {
+                        if has != 0.0 {
+                            closing += c;
+                            full += f;
+                        }
+                    }
+                    stage.close_work(closing, full);
+                }
             }
             let stats = tally::contact_stats(&hits, &peaks);
             let l = tally::ledger(&self.terms, stats.elastic, w.dissipated());
@@ -473,9 +576,16 @@ impl<'c> RankStep<'c> {
                 stats.max_overlap_body as f64,
                 sound_all as u8 as f64,
                 stop as u8 as f64,
+                0.0,
+                0.0,
             ];
+            let ledger = w.contacts.as_ref().and_then(|c| c.damping_state());
+            out[9..].copy_from_slice(&ledger.unwrap_or_default());
         }
         self.comm.broadcast(&mut out);
+        if let Some(stage) = w.contacts.as_mut().filter(|_| work > 0) {
+            stage.set_damping_state([out[9], out[10]]);
+        }
         w.ledger = Ledger {
             gravity: out[0],
             translation: out[1],
@@ -555,12 +665,23 @@ impl<'s> Stepper<'s> for RankStep<'_> {
         }
         // A guard fired somewhere: every rank takes every state and names
         // the same diagnosis, as one process would.
-        self.gather_states(w, true);
+        self.gather_states(w, true, false);
         w.diagnose_state().map_or(Ok(()), |d| Err(Box::new(d)))
     }
 
     fn sync(&mut self, w: &mut World<'s>) {
-        self.gather_states(w, false);
+        // A checkpoint of a law that reads velocities keeps the last loads.
+        let reads_motion = w.contacts.as_ref().is_some_and(|c| c.reads_motion());
+        self.gather_states(w, false, reads_motion);
+        // The contacts' records a checkpoint keeps, on rank 0.
+        if let Some(h) = w.contacts.as_ref().and_then(|c| c.history()) {
+            let mine = self.owned_records(h);
+            if let Some((all, _)) = self.comm.gather(&mine) {
+                if let Some(stage) = &mut w.contacts {
+                    stage.set_gathered_history(records::decode(&all));
+                }
+            }
+        }
         // The memories a checkpoint keeps, on rank 0.
         let mine = self.owned_memories(PairMemory::kept_by_checkpoints);
         if let Some((all, _)) = self.comm.gather(&memory::encode(mine.into_iter())) {

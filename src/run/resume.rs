@@ -45,19 +45,14 @@ pub fn scene_from_checkpoint(c: &Checkpoint, t_end: Option<f64>) -> Result<Scene
             ),
         ));
     }
-    // A contact's tangential spring is not kept in checkpoints yet: a
-    // resumed frictional run would start every spring from zero.
-    if scene.friction.is_some() {
-        return Err(Error::bad(
-            &c.scenario_source,
-            "friction",
-            "a frictional scene ([contact] friction or wall_friction > 0) cannot be resumed yet: checkpoints do not keep its contacts' tangential springs; rerun from the start",
-        ));
-    }
-    // The restitution the run used (`settle --restitution` may have set it
-    // over the scenario's), as δt and the rotator are the run's.
+    // The restitution and friction the run used (`settle --restitution`
+    // may have set them over the scenario's), as δt and the rotator are
+    // the run's.
     if let Some(part) = &c.damping {
-        scene.damping = Some(part.restitution()?);
+        scene.damping = part.restitution()?;
+        if let Some(f) = part.friction()? {
+            scene.friction = Some(f);
+        }
     }
     scene.guards.energy_error_pct = unbits(&c.guards[0], "guards")?;
     scene.guards.overlap_ratio = unbits(&c.guards[1], "guards")?;

@@ -305,46 +305,6 @@ fn a_negative_friction_is_refused() {
     }
 }
 
-/// A frictional run's checkpoint is not resumed (its springs are not in
-/// it): refused with exit 2, naming friction, before anything runs.
-#[test]
-fn a_frictional_checkpoint_is_not_resumed() {
-    let dir = tempfile::tempdir().unwrap();
-    let text = scene(
-        2e-3,
-        [0.0, 0.0, -G],
-        "friction = 0.3",
-        100,
-        &sphere(0.01, 0.0, [0.1, 0.0, 0.0]),
-    );
-    let file = dir.path().join("f.toml");
-    std::fs::write(&file, text).unwrap();
-    let out = dir.path().join("f");
-    ok(fibresim(&[
-        "run",
-        file.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--checkpoint-every",
-        "1000",
-        "-q",
-    ]));
-    let o = fibresim(&[
-        "run",
-        "--resume",
-        out.join("checkpoint.json").to_str().unwrap(),
-        "--t-end",
-        "3e-3",
-        "-q",
-    ]);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(
-        err.contains("friction") && err.contains("rerun from the start"),
-        "{err}"
-    );
-}
-
 /// A bed settled from a frictional scene keeps its friction (a property of
 /// the bodies, not a settling aid as the damping is): the written scenario
 /// loads with the same two coefficients, and without the restitution.

@@ -629,3 +629,151 @@ fn resume_keeps_the_pair_memories() {
         "energy.csv of the resumed run differs"
     );
 }
+
+/// A dense frictional mixed bed (`common::packed_mixed_scene`: 256 fibres
+/// and 128 spheres at up to 0.3 m/s) with the box's low walls moved to
+/// 50 µm of the outer bodies, so fibres and spheres hit them within the
+/// first 200 steps; with `contact` appended.
+fn frictional_bed(contact: &str) -> String {
+    let text = common::packed_mixed_scene(6, 8, 8, 6e-4);
+    let (old, new) = ("min = [0.0, 0.0, 0.0]", "min = [0.005, 0.005, 0.005]");
+    assert!(text.contains(old));
+    text.replace(old, new) + "[contact]\n" + contact
+}
+
+/// Dense frictional mixed beds, without and with a restitution (μ = 0.4
+/// body–body, 0.3 body–wall), on two threads: checkpointed at step 300,
+/// when sticking and sliding springs are live on fibre–fibre, sphere–fibre,
+/// sphere–sphere and body–wall contacts, and resumed to 600, the energy
+/// rows, the trajectory, the summary (but its timings) and the final
+/// states file (states, loads, pair memories and springs, written by both
+/// runs at step 600) are the bytes of the run straight to 600. The springs
+/// are what the checkpoint adds: 33 bytes per touching contact after the
+/// pair memories.
+#[test]
+fn resume_of_a_frictional_mixed_bed_gives_the_same_bytes() {
+    for contact in [
+        "friction = 0.4\nwall_friction = 0.3\n",
+        "restitution = 0.5\nfriction = 0.4\nwall_friction = 0.3\n",
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let scene = dir.path().join("bed.toml");
+        std::fs::write(&scene, frictional_bed(contact)).unwrap();
+        let scene = scene.to_str().unwrap();
+        let (whole, split) = (dir.path().join("w"), dir.path().join("s"));
+        let t = [
+            "--threads",
+            "2",
+            "-q",
+            "--every",
+            "20",
+            "--trajectory-every",
+            "100",
+        ];
+        run_checkpointed(scene, &whole, "6e-4", "300", &t);
+        let ckpt = run_checkpointed(scene, &split, "3e-4", "300", &t);
+        let c: serde_json::Value = serde_json::from_slice(&read_bytes(&ckpt)).unwrap();
+        assert_eq!(c["format"], "fibresim-checkpoint-6");
+        assert!(c["damping"]["friction"].is_array(), "{contact}");
+        // The springs: after the 24 B header, 160 B per body (states and
+        // loads) and the pair memories, the wall and pair records.
+        let states = read_bytes(&states_file(&split));
+        let word = |at: usize| u64::from_le_bytes(states[at..at + 8].try_into().unwrap()) as usize;
+        assert_eq!(word(8), 384, "bodies");
+        let walls_at = springs_at(&states);
+        let (walls, pairs_at) = (word(walls_at), walls_at + 8 + 33 * word(walls_at));
+        let pairs = word(pairs_at);
+        assert_eq!(states.len(), pairs_at + 8 + 33 * pairs);
+        assert!(
+            walls > 20 && pairs > 80,
+            "{walls} wall and {pairs} pair springs"
+        );
+        resume_to(
+            &ckpt,
+            "6e-4",
+            &["--threads", "2", "--checkpoint-every", "300"],
+        );
+        for f in ["energy.csv", "trajectory.csv", "checkpoint.600.states"] {
+            assert!(
+                read_bytes(&whole.join(f)) == read_bytes(&split.join(f)),
+                "{f} differs ({contact})"
+            );
+        }
+        assert_eq!(
+            strip_timings(&whole.join("summary.json")),
+            strip_timings(&split.join("summary.json"))
+        );
+    }
+}
+
+/// A checkpoint of the previous format (no springs) still resumes a
+/// frictionless run, and is refused for a frictional one (exit 2, naming
+/// friction and the fix) before anything runs.
+#[test]
+fn a_checkpoint_without_springs_resumes_only_frictionless_scenes() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in [
+        ("plain", DROP.to_string()),
+        (
+            "rough",
+            DROP.replace("[[body]]", "[contact]\nfriction = 0.3\n[[body]]"),
+        ),
+    ] {
+        let scene = dir.path().join(format!("{name}.toml"));
+        std::fs::write(&scene, &text).unwrap();
+        let out = dir.path().join(name);
+        let ckpt = run_checkpointed(scene.to_str().unwrap(), &out, "0.001", "500", &["-q"]);
+        // The previous format's files: its name, and no friction part (so
+        // no springs).
+        let mut c: serde_json::Value = serde_json::from_slice(&read_bytes(&ckpt)).unwrap();
+        c["format"] = "fibresim-checkpoint-5".into();
+        if let Some(d) = c.get_mut("damping").and_then(|d| d.as_object_mut()) {
+            d.remove("friction");
+        }
+        let states = states_file(&out);
+        let mut bytes = read_bytes(&states);
+        if name == "rough" {
+            // Without the springs.
+            bytes.truncate(springs_at(&bytes));
+            std::fs::write(&states, &bytes).unwrap();
+            c["states_bytes"] = bytes.len().into();
+            c["states_fnv"] = format!("{:016x}", fnv(&bytes)).into();
+        }
+        std::fs::write(&ckpt, serde_json::to_string_pretty(&c).unwrap()).unwrap();
+        let o = fibresim(&[
+            "run",
+            "--resume",
+            ckpt.to_str().unwrap(),
+            "--t-end",
+            "0.002",
+            "-q",
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        if name == "plain" {
+            assert!(o.status.success(), "{err}");
+        } else {
+            assert_eq!(o.status.code(), Some(2), "{err}");
+            assert!(
+                err.contains("friction") && err.contains("rerun from the start"),
+                "{err}"
+            );
+        }
+    }
+}
+
+/// 64-bit FNV-1a (the checkpoint's hash of its states file).
+fn fnv(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// Where a damped or frictional states file's springs start: after the
+/// header, per body its id, state, rotator doubles and loads, and the pair
+/// memories.
+fn springs_at(states: &[u8]) -> usize {
+    let word = |at: usize| u64::from_le_bytes(states[at..at + 8].try_into().unwrap()) as usize;
+    let (n, per) = (word(8), word(16));
+    let at = 24 + n * (112 + 8 * per + 48);
+    at + 8 + 14 * word(at)
+}
