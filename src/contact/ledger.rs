@@ -9,16 +9,22 @@
 //! around `v_k`, so its exact translational work is `δt D_k·v_k`, `v_k =
 //! v_{k−½} + (δt/2)(F_k/m + g)` (the two half-kicks use the same force).
 //! Rotation alike: a torque `T_k` does `δt T_k·ω_k`, `ω_k` the world
-//! angular velocity after the closing half-kick of the total torque `τ_k`,
+//! angular velocity at the middle of the interval the torque drives. Most
+//! rotators hand the forces an angular velocity half a kick before it (the
+//! half-step `ω_{k−½}` of the kick–drift–kick schemes, the whole-step `ω_k`
+//! of the start-of-step ones, whose torque drives `[t_k, t_{k+1}]`), so the
+//! ledger adds the half kick of the total torque `τ_k`,
 //! `ω_k = ω_{k−½} + (δt/2) q (I⁻¹ (q* τ_k q − ω_b × I ω_b))` (Euler's
 //! equations, Eq. 4, over the half step; the rotators' own kicks agree to
-//! higher order). Taking `ω_{k−½}` instead would miss `(δt/2) T_k·Δω` a
-//! step: nothing for central loads on a sphere, but a steady first-order
-//! bias under friction, whose torques spin the bodies up. Frictionless
-//! laws keep the half-step `ω_{k−½}` (and their bits): their only torques
-//! are the normal damping's lever arms on fibres; on a damped settled bed
-//! the bias is well below the budget's error, and the half kick would
-//! cost every damped step (docs/performance.md). The ledger at
+//! higher order). A staggered scheme hands the forces its predicted middle
+//! already (`Rotator::SPIN_AT_MIDPOINT`): the ledger takes it as it is, and
+//! the half-step value half a kick before it. Taking the angular velocity
+//! the forces see in either case would be off by `(δt/2) T_k·Δω` a step:
+//! nothing for central loads on a sphere, but a steady first-order bias
+//! wherever a non-conservative torque meets a spin it changes: friction's
+//! torques spin the bodies up, and the normal damping acts at a fibre's
+//! contact point off its axis, so its lever arm brakes the spin of every
+//! landing fibre. The ledger at
 //! step k holds every earlier stage's work and the closing half-kick's
 //! share of stage k's; so `E + E_dissipated` closes as well as the
 //! elastic budget does.
@@ -48,17 +54,16 @@ pub(crate) struct WorkLedger {
     done: f64,
     /// Whether the next computation is the first (step 0: full-step velocities).
     first: bool,
-    /// Whether a torque's work is taken at `ω_k` (frictional laws) rather
-    /// than at `ω_{k−½}` (module docs).
-    spin_kick: bool,
+    /// Whether the forces see the angular velocity at the middle of their
+    /// torque's interval (module docs), as the rotator stepping says.
+    spin_at_midpoint: bool,
     /// Dissipated energy at the state of the last computation, J.
     pub(crate) dissipated: f64,
 }
 
 impl WorkLedger {
-    /// The ledger of `n` bodies stepped by `dt` under `gravity`; with
-    /// `spin_kick` (frictional laws) a torque's work is taken at `ω_k`.
-    pub(crate) fn new(n: usize, dt: f64, gravity: Option<DVec3>, spin_kick: bool) -> Self {
+    /// The ledger of `n` bodies stepped by `dt` under `gravity`.
+    pub(crate) fn new(n: usize, dt: f64, gravity: Option<DVec3>) -> Self {
         WorkLedger {
             dt,
             gravity: gravity.unwrap_or(DVec3::ZERO),
@@ -66,9 +71,15 @@ impl WorkLedger {
             torque: vec![DVec3::ZERO; n],
             done: 0.0,
             first: true,
-            spin_kick,
+            spin_at_midpoint: false,
             dissipated: 0.0,
         }
+    }
+
+    /// Take the forces' angular velocity as the middle of their torque's
+    /// interval (`Rotator::SPIN_AT_MIDPOINT` of the rotator stepping).
+    pub(crate) fn set_spin_at_midpoint(&mut self, yes: bool) {
+        self.spin_at_midpoint = yes;
     }
 
     /// The non-conservative force and torque per body (world), for the
@@ -103,11 +114,7 @@ impl WorkLedger {
         states: &[BodyState],
         loads: (&[DVec3], &[DVec3]),
     ) {
-        let (closing, full) = if self.spin_kick {
-            self.work::<true>(bodies, states, loads)
-        } else {
-            self.work::<false>(bodies, states, loads)
-        };
+        let (closing, full) = self.work(bodies, states, loads);
         self.close(closing, full);
     }
 
@@ -122,10 +129,9 @@ impl WorkLedger {
     }
 
     /// The closing half-kick's share and the full work of this
-    /// computation's loads, the torques' at `ω_k` (`KICK`) or at
-    /// `ω_{k−½}`.
+    /// computation's loads (module docs).
     #[inline(always)]
-    fn work<const KICK: bool>(
+    fn work(
         &self,
         bodies: &[Body],
         states: &[BodyState],
@@ -139,7 +145,7 @@ impl WorkLedger {
             .zip(force)
             .zip(torque)
         {
-            if let Some([c, w]) = self.share::<KICK>(b, s, (d, dtau), (f, tau)) {
+            if let Some([c, w]) = self.share(b, s, (d, dtau), (f, tau)) {
                 closing += c;
                 full += w;
             }
@@ -160,12 +166,7 @@ impl WorkLedger {
         s: &BodyState,
         loads: (DVec3, DVec3),
     ) -> Option<[f64; 2]> {
-        let own = (self.force[i], self.torque[i]);
-        if self.spin_kick {
-            self.share::<true>(b, s, own, loads)
-        } else {
-            self.share::<false>(b, s, own, loads)
-        }
+        self.share(b, s, (self.force[i], self.torque[i]), loads)
     }
 
     /// One body's shares of [`WorkLedger::work`]: its non-conservative
@@ -173,7 +174,7 @@ impl WorkLedger {
     /// only the opening half-kick is to come: no closing share (adding 0
     /// to a sum that starts at +0 leaves it as it is).
     #[inline(always)]
-    fn share<const KICK: bool>(
+    fn share(
         &self,
         b: &Body,
         s: &BodyState,
@@ -186,22 +187,19 @@ impl WorkLedger {
         let (dt, g) = (self.dt, self.gravity);
         let kick = 0.5 * dt * (f * b.inv_mass + g);
         let (q, omega_b) = (s.rot.q, s.rot.omega_b);
-        let spin = dtau.dot(q * omega_b);
-        if !KICK {
-            return Some(if self.first {
-                // Step 0: `v` is v₀.
-                [0.0, 0.25 * dt * d.dot(2.0 * s.v + kick) + 0.5 * dt * spin]
-            } else {
-                let v_full = s.v + kick;
-                [
-                    0.25 * dt * d.dot(s.v + v_full) + 0.5 * dt * spin,
-                    dt * (d.dot(v_full) + spin),
-                ]
-            });
-        }
+        // The torque's power at `ω_{k−½}` (`spin`) and at `ω_k`
+        // (`spin_full`), half a kick apart.
+        let seen = dtau.dot(q * omega_b);
         let dw = 0.5 * dt * b.inertia.angular_acceleration_world(q, omega_b, tau);
-        let spin_full = spin + dtau.dot(q * dw);
+        let half_kick = dtau.dot(q * dw);
+        let (spin, spin_full) = if self.spin_at_midpoint && !self.first {
+            (seen - half_kick, seen)
+        } else {
+            (seen, seen + half_kick)
+        };
         Some(if self.first {
+            // Step 0: `v` and `ω` are v₀ and ω₀; only the opening
+            // half-kick is to come.
             [
                 0.0,
                 0.25 * dt * (d.dot(2.0 * s.v + kick) + spin + spin_full),

@@ -158,8 +158,17 @@ impl ContactStage {
         self.ledger = self
             .laws
             .reads_motion()
-            .then(|| WorkLedger::new(n, dt, gravity, self.laws.keeps_history()));
+            .then(|| WorkLedger::new(n, dt, gravity));
         self
+    }
+
+    /// Tell the ledger whether the forces see the angular velocity at the
+    /// middle of their torque's interval (`Rotator::SPIN_AT_MIDPOINT`).
+    #[inline]
+    pub fn ledger_spin_at_midpoint(&mut self, yes: bool) {
+        if let Some(l) = &mut self.ledger {
+            l.set_spin_at_midpoint(yes);
+        }
     }
 
     /// Energy dissipated by the non-conservative loads up to the last

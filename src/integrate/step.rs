@@ -50,6 +50,7 @@ impl<'s> World<'s> {
         if R::Aux::LEN > 0 && self.aux.len() != R::Aux::LEN * self.states.len() {
             self.start_aux::<R>();
         }
+        self.ledger_follows::<R>();
         let clock = self.timers.map(|_| Instant::now());
         let mut forces_time = Duration::ZERO;
         let mut forces = |w: &mut Self| match clock {
@@ -106,6 +107,14 @@ impl<'s> World<'s> {
             }
         }
         kind.visit(One(self, std::marker::PhantomData))
+    }
+
+    /// Tell the work ledger which angular velocity `R` hands the forces.
+    #[inline]
+    pub(crate) fn ledger_follows<R: Rotator>(&mut self) {
+        if let Some(c) = &mut self.contacts {
+            c.ledger_spin_at_midpoint(R::SPIN_AT_MIDPOINT);
+        }
     }
 
     /// The rotator's auxiliary state at the start of a run.

@@ -635,6 +635,7 @@ impl<'s> Stepper<'s> for RankStep<'_> {
                 w.aux.clear();
             }
         }
+        w.ledger_follows::<R>();
         let me = self.rank();
         self.clocks.steps += 1;
         self.clocks.owned += self.slabs.owned[me].len() as u64;

@@ -282,6 +282,13 @@ pub trait Rotator {
     /// its opening stage stays on one thread.
     const MAY_FAULT: bool = false;
 
+    /// Whether the angular velocity `advance` leaves for the forces is the
+    /// one at the middle of the interval their torque drives (a staggered
+    /// scheme's predicted whole-step `ω`), rather than the one half a kick
+    /// before it (a half-step or start-of-step `ω`). The work ledger takes
+    /// a torque's work at that middle (`src/contact/ledger.rs`).
+    const SPIN_AT_MIDPOINT: bool = false;
+
     /// The auxiliary state of a body at the start of a run.
     #[inline]
     fn start(_rot: &RotState, _inertia: &Inertia) -> Self::Aux {

@@ -108,6 +108,10 @@ impl AuxState for StaggeredAux {
 impl Rotator for PcdmStaggered {
     type Aux = StaggeredAux;
 
+    /// The forces see `ω'_b,n+1`, the middle of `[t_{n+½}, t_{n+3/2}]`
+    /// over which their torque drives the corrector.
+    const SPIN_AT_MIDPOINT: bool = true;
+
     const INFO: RotatorInfo = RotatorInfo {
         name: "pcdm-staggered",
         title: "PCDM shifted half a step (q, omega at half steps, one torque evaluation at the predicted whole-step orientation): Seelen et al.'s improved PCDM, reconstructed from its stated properties",
