@@ -38,13 +38,32 @@
 
 use glam::DVec3;
 
-/// A scene's Coulomb coefficients: body–body and body–wall.
+/// A scene's Coulomb coefficients: body–body and body–wall, the defaults
+/// of materials without their own.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Friction {
     /// μ of body–body contacts.
     pub body: f64,
-    /// μ of body–wall contacts.
+    /// μ of body–wall contacts, the walls' own.
     pub wall: f64,
+}
+
+impl Friction {
+    /// μ of a contact between two bodies whose materials have their own
+    /// coefficients `a`, `b` (`None`: [`Friction::body`]): the smaller,
+    /// as Yade's `FrictMat` takes the smaller friction angle (`tan` is
+    /// increasing): a pair slides as soon as its slipperier surface lets
+    /// it, and each material's μ is what it shows against itself.
+    pub fn pair(&self, a: Option<f64>, b: Option<f64>) -> f64 {
+        a.unwrap_or(self.body).min(b.unwrap_or(self.body))
+    }
+
+    /// μ of a contact between a body whose material has its own
+    /// coefficient `a` (`None`: [`Friction::wall`]) and a wall: the
+    /// smaller of it and the walls' [`Friction::wall`].
+    pub fn against_wall(&self, a: Option<f64>) -> f64 {
+        a.unwrap_or(self.wall).min(self.wall)
+    }
 }
 
 /// The tangential constants of a pair of materials.
