@@ -133,6 +133,9 @@ pub struct Material {
     pub young: f64,
     /// Poisson ratio, likewise.
     pub poisson: f64,
+    /// Its own Coulomb coefficient (`[material.NAME] friction`); `None`:
+    /// the scene's `[contact]` default (`tangential::Friction`).
+    pub friction: Option<f64>,
 }
 
 /// Constant mechanical properties of one body: what the step reads. Labels

@@ -405,7 +405,8 @@ pub fn advise_with(scene: &Scene, impact_speed: Option<f64>) -> Advice {
             let law = body_wall_law(b, m, w);
             let rho = 4.0 * 0.5 * d / FACE_BLEND_SIN;
             let tangential = scene.friction.and_then(|f| {
-                let tan = Tangential::new(f.wall, m.young, m.poisson, w.young, w.poisson);
+                let mu = f.against_wall(m.friction);
+                let tan = Tangential::new(mu, m.young, m.poisson, w.young, w.poisson);
                 tangential_time(&law, &tan, m_eff(b), v, min_tangential_mass(b))
             });
             pairs.push(PairAdvice {
@@ -437,7 +438,8 @@ pub fn advise_with(scene: &Scene, impact_speed: Option<f64>) -> Advice {
                     None => vi + vj,
                 };
                 let tangential = scene.friction.and_then(|f| {
-                    let tan = Tangential::new(f.body, ma.young, ma.poisson, mb.young, mb.poisson);
+                    let mu = f.pair(ma.friction, mb.friction);
+                    let tan = Tangential::new(mu, ma.young, ma.poisson, mb.young, mb.poisson);
                     let m_t = 1.0 / (1.0 / min_tangential_mass(a) + 1.0 / min_tangential_mass(b));
                     tangential_time(&law, &tan, m, v, m_t)
                 });

@@ -579,6 +579,7 @@ impl GenerateArgs {
                 density: positive_flag("--density", self.density)?,
                 young,
                 poisson,
+                friction: None,
             },
             velocity,
             spin: self.spin,

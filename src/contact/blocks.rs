@@ -1080,6 +1080,7 @@ mod tests {
             density: 1100.0,
             young: 5e7,
             poisson: 0.35,
+            friction: None,
         };
         let bodies: Vec<_> = (0..12)
             .map(|i| {

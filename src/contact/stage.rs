@@ -185,7 +185,7 @@ impl ContactStage {
 
     /// Energy held by the tangential springs of the touching contacts at
     /// the last computation, `Σ ½ k_t |ξ|²` with that computation's `k_t`,
-    /// each counted up to its Coulomb cap (`tangential::spring_energy`), J
+    /// each `½ k_t |ξ|²` (`tangential::spring_energy`), J
     /// (0 without friction).
     #[inline]
     pub fn spring_energy(&self) -> f64 {

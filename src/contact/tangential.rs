@@ -14,9 +14,21 @@
 //!    `ξ ← ξ + v_t δt`.
 //! 3. The trial force `f = −k_t ξ − η_t v_t` (Eq. 12).
 //! 4. Coulomb: if `|f| > μ F_n` the contact slides: `f ← μ F_n f/|f|`, and
-//!    the spring is reset so that with the damping it gives that force,
-//!    `ξ ← −(f + η_t v_t)/k_t` (Eq. 13). The total tangential force,
-//!    damping included, never exceeds `μ F_n`.
+//!    the spring is reset to hold that whole force, `ξ ← −f/k_t`: while
+//!    it slides the damping takes no part (LIGGGHTS'
+//!    `tangential_model_history`; Cundall & Strack's spring at the slip
+//!    limit). The total tangential force, damping included, never exceeds
+//!    `μ F_n`.
+//!
+//! Why not Luding's Eq. 13, `ξ ← −(f + η_t v_t)/k_t` (the spring with the
+//! damping gives the capped force, as LAMMPS's `gran/hertz/history`):
+//! where the damping term alone exceeds the cap, early in a damped impact,
+//! it stores the spring *along* the slip, and as `k_t ∝ δ^{1/2}` grows
+//! faster than `η_t ∝ δ^{1/4}` while the contact loads, the next trial
+//! force points along the slip and friction pushes the sliding contact
+//! forward. With the spring holding `−f/k_t`, the next trial is
+//! `(k_t'/k_t) f − (k_t' δt + η_t) v_t`: every part of it opposes a slip
+//! that keeps its direction, so a sliding contact is always braked.
 //!
 //! `k_t = 8 G* a` with the contact radius `a = √(R* δ)` and
 //! `1/G* = (2−ν₁)/G₁ + (2−ν₂)/G₂`, `G = E/(2(1+ν))`. The tangential damping
@@ -26,13 +38,32 @@
 
 use glam::DVec3;
 
-/// A scene's Coulomb coefficients: body–body and body–wall.
+/// A scene's Coulomb coefficients: body–body and body–wall, the defaults
+/// of materials without their own.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Friction {
     /// μ of body–body contacts.
     pub body: f64,
-    /// μ of body–wall contacts.
+    /// μ of body–wall contacts, the walls' own.
     pub wall: f64,
+}
+
+impl Friction {
+    /// μ of a contact between two bodies whose materials have their own
+    /// coefficients `a`, `b` (`None`: [`Friction::body`]): the smaller,
+    /// as Yade's `FrictMat` takes the smaller friction angle (`tan` is
+    /// increasing): a pair slides as soon as its slipperier surface lets
+    /// it, and each material's μ is what it shows against itself.
+    pub fn pair(&self, a: Option<f64>, b: Option<f64>) -> f64 {
+        a.unwrap_or(self.body).min(b.unwrap_or(self.body))
+    }
+
+    /// μ of a contact between a body whose material has its own
+    /// coefficient `a` (`None`: [`Friction::wall`]) and a wall: the
+    /// smaller of it and the walls' [`Friction::wall`].
+    pub fn against_wall(&self, a: Option<f64>) -> f64 {
+        a.unwrap_or(self.wall).min(self.wall)
+    }
 }
 
 /// The tangential constants of a pair of materials.
@@ -115,7 +146,7 @@ pub fn step_spring(
         };
     }
     let force = trial * (cap / size2.sqrt());
-    *xi = -(force + eta_t * v_t) / k_t;
+    *xi = -force / k_t;
     TangentialForce {
         force,
         sliding: true,
@@ -123,18 +154,12 @@ pub fn step_spring(
 }
 
 /// The energy the spring `xi` of stiffness `k_t` holds and can give back,
-/// J: `½ k_t |ξ|²`, its force `k_t |ξ|` counted up to the Coulomb cap
-/// `cap`, `½ min(k_t |ξ|, cap)²/k_t`. While a damped contact slides, step
-/// 4 stretches the spring past the cap to hold the damping's part, `ξ =
-/// −(f + η_t v_t)/k_t`; the contact never gives that stretch back (as
-/// `v_t` falls the trial force stays above the cap and step 4 cuts the
-/// spring down), so it is counted as lost at once.
-pub fn spring_energy(xi: DVec3, k_t: f64, cap: f64) -> f64 {
-    if k_t <= 0.0 {
-        return 0.0;
-    }
-    let f = (k_t * xi.length()).min(cap);
-    0.5 * f * f / k_t
+/// J: `½ k_t |ξ|²`. A sliding contact's spring holds the cap, `½ (μ
+/// F_n)²/k_t` (step 4); a sticking one can hold more only while its
+/// damping opposes the spring, that is while the spring unloads and gives
+/// that energy back.
+pub fn spring_energy(xi: DVec3, k_t: f64) -> f64 {
+    0.5 * k_t * xi.length_squared()
 }
 
 #[cfg(test)]
@@ -194,20 +219,26 @@ mod tests {
     }
 
     /// Sliding: the total force, damping included, is exactly the cap,
-    /// against the sliding; the spring alone with the damping gives it
-    /// (Luding 2008, Eq. 13).
+    /// along the trial force; the spring alone holds it.
     #[test]
     fn a_sliding_contact_pulls_with_the_cap() {
         let (k, eta, cap) = (2e4, 0.5, 1e-3);
         let v = DVec3::new(0.3, -0.4, 0.0);
         let mut xi = DVec3::new(1e-4, 0.0, 0.0);
+        let trial = -k * (xi + v * DT) - eta * v;
         let f = step_spring(&mut xi, DVec3::Z, v, DT, k, eta, cap);
         assert!(f.sliding);
         assert!((f.force.length() / cap - 1.0).abs() < 1e-15, "{f:?}");
-        let back = -k * xi - eta * v;
-        // To the rounding of the larger of its two parts.
-        let scale = cap + eta * v.length();
-        assert!((back - f.force).length() < 4e-16 * scale, "{back} {f:?}");
+        assert!(
+            (f.force.normalize() - trial.normalize()).length() < 1e-15,
+            "{f:?} {trial}"
+        );
+        let back = -k * xi;
+        assert!((back - f.force).length() < 4e-16 * cap, "{back} {f:?}");
+        assert!(
+            (spring_energy(xi, k) / (cap * cap / (2.0 * k)) - 1.0).abs() < 1e-15,
+            "the spring holds the cap"
+        );
         // No normal force, no tangential force.
         let g = step_spring(&mut xi, DVec3::Z, v, DT, k, 0.0, 0.0);
         assert_eq!((g.force, xi), (DVec3::ZERO, DVec3::ZERO));
@@ -243,14 +274,38 @@ mod tests {
             f.force.x > 0.0 && (f.force.x / cap - 1.0).abs() < 1e-9,
             "{f:?}"
         );
-        // The spring at the cap holds cap²/(2 k_t) (η = 0: no stretch past it).
-        let held = spring_energy(xi, k, cap);
+        // The spring at the cap holds cap²/(2 k_t).
+        let held = spring_energy(xi, k);
         assert!(
             (held / (cap * cap / (2.0 * k)) - 1.0).abs() < 1e-9,
             "{held}"
         );
-        // Stretched past the cap, it is counted up to the cap.
-        let past = spring_energy(10.0 * xi, k, cap);
-        assert!((past / held - 1.0).abs() < 1e-9, "{past} {held}");
+    }
+
+    /// A damped contact sliding at a constant slip while its stiffness
+    /// grows faster than its damping (`k_t ∝ δ^{1/2}`, `η_t ∝ δ^{1/4}`, a
+    /// loading Hertz contact) with a damping term far above the cap: the
+    /// force stays the cap, against the slip, every step. (Luding's reset
+    /// `ξ = −(f + η_t v_t)/k_t` stores the spring along the slip here and
+    /// pushes the contact forward from the second step on.)
+    #[test]
+    fn a_damped_sliding_contact_is_braked_while_it_loads() {
+        let v = DVec3::new(1.5, 0.0, 0.0);
+        let mut xi = DVec3::ZERO;
+        for step in 1..=200 {
+            let delta = step as f64 * 1e-8;
+            let (k, eta, cap) = (
+                1e7 * delta.sqrt(),
+                30.0 * delta.sqrt().sqrt(),
+                1e6 * delta.powf(1.5),
+            );
+            assert!(eta * v.length() > cap);
+            let f = step_spring(&mut xi, DVec3::Z, v, DT, k, eta, cap);
+            assert!(f.sliding, "step {step}");
+            assert!(
+                f.force.x < 0.0 && (f.force.length() / cap - 1.0).abs() < 1e-12,
+                "step {step}: {f:?}, cap {cap:e}"
+            );
+        }
     }
 }

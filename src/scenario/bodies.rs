@@ -67,7 +67,7 @@ pub(super) fn build_body(
         Some(m) => format!("material.{m}.{k}"),
         None => key(k),
     };
-    let (density, young, poisson) = match &b.material {
+    let (density, young, poisson, friction) = match &b.material {
         Some(m) => {
             if b.density.is_some() || b.young.is_some() || b.poisson.is_some() {
                 return Err(cx.err(&key("material"), check::MATERIAL_AND_INLINE));
@@ -76,13 +76,15 @@ pub(super) fn build_body(
                 let known: Vec<&str> = raw.material.keys().map(String::as_str).collect();
                 cx.err(&key("material"), check::unknown_material(m, &known))
             })?;
-            (mat.density, mat.young, mat.poisson)
+            // (`friction` is checked with the `[material]` tables.)
+            (mat.density, mat.young, mat.poisson, mat.friction)
         }
         None => (
             b.density
                 .ok_or_else(|| cx.err(&key("density"), "give `density` (kg/m^3) or `material`"))?,
             b.young,
             b.poisson,
+            None,
         ),
     };
     let density = cx.positive(&mkey("density"), density)?;
@@ -109,7 +111,7 @@ pub(super) fn build_body(
 
     let (q, x, v, omega_w) = kinematics(cx, i, b, &shape)?;
     let torque = prescribed(cx, i, b)?;
-    let material = materials.intern(b.material.as_deref(), density, young, poisson);
+    let material = materials.intern(b.material.as_deref(), density, young, poisson, friction);
     let body = Body::new(shape, material, density);
     let state = BodyState {
         x,
@@ -165,7 +167,7 @@ fn build_rigid(
     let shape_probe = Body::rigid(mass, DVec3::from_array(moments), 0).shape;
     let (q, x, v, omega_w) = kinematics(cx, i, b, &shape_probe)?;
     let torque = prescribed(cx, i, b)?;
-    let material = materials.intern(None, f64::NAN, f64::NAN, f64::NAN);
+    let material = materials.intern(None, f64::NAN, f64::NAN, f64::NAN, None);
     let body = Body::rigid(mass, DVec3::from_array(moments), material);
     let state = BodyState {
         x,
@@ -259,6 +261,7 @@ impl Materials {
         density: f64,
         young: f64,
         poisson: f64,
+        friction: Option<f64>,
     ) -> MaterialId {
         let same = |m: &Material| match name {
             Some(n) => m.name == n,
@@ -281,6 +284,7 @@ impl Materials {
             density,
             young,
             poisson,
+            friction,
         });
         (self.table.len() - 1) as MaterialId
     }

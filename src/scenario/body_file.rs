@@ -326,7 +326,7 @@ fn parse_row(
                     format!("material `{name}` needs `young` and `poisson`: bodies in a body file can touch"),
                 ));
             };
-            let id = materials.intern(Some(name), m.density, e, nu);
+            let id = materials.intern(Some(name), m.density, e, nu, m.friction);
             by_name.insert(name.to_string(), id);
             id
         }

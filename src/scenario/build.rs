@@ -115,6 +115,11 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
     let mut names = Vec::with_capacity(raw.body.len());
     let mut initial = Vec::with_capacity(raw.body.len());
     let mut torques = vec![];
+    for (name, m) in &raw.material {
+        if let Some(mu) = m.friction {
+            cx.non_negative(&format!("material.{name}.friction"), mu)?;
+        }
+    }
     let mut materials = Materials::default();
     for (i, b) in raw.body.iter().enumerate() {
         let (body, state, torque) = build_body(&cx, &raw, i, b, needs_contacts, &mut materials)?;
@@ -272,10 +277,7 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
         Some(c) => restitution(&cx, c)?,
         None => None,
     };
-    let friction = match &raw.contact {
-        Some(c) => friction(&cx, c)?,
-        None => None,
-    };
+    let friction = friction(&cx, raw.contact.as_ref(), &materials.table)?;
 
     Ok(Scene {
         damping,
@@ -356,19 +358,26 @@ fn restitution(
     Ok((fibre < 1.0 || wall < 1.0).then_some(crate::contact::damping::Restitution { fibre, wall }))
 }
 
-/// The checked Coulomb coefficients of `[contact]`; `None` when both are 0
-/// (frictionless), so such a scene runs exactly as one without the keys.
+/// The checked Coulomb coefficients of `[contact]`, the defaults of the
+/// `materials` the bodies use; `None` when they and every material's own
+/// coefficient are 0 (frictionless), so such a scene runs exactly as one
+/// without the keys.
 fn friction(
     cx: &Ctx,
-    c: &super::file::ContactSection,
+    c: Option<&super::file::ContactSection>,
+    materials: &[crate::body::Material],
 ) -> Result<Option<crate::contact::tangential::Friction>> {
-    let body = match c.friction {
+    let body = match c.and_then(|c| c.friction) {
         Some(mu) => cx.non_negative("contact.friction", mu)?,
         None => 0.0,
     };
-    let wall = match c.wall_friction {
+    let wall = match c.and_then(|c| c.wall_friction) {
         Some(mu) => cx.non_negative("contact.wall_friction", mu)?,
         None => body,
     };
-    Ok((body > 0.0 || wall > 0.0).then_some(crate::contact::tangential::Friction { body, wall }))
+    let own = materials
+        .iter()
+        .any(|m| m.friction.is_some_and(|mu| mu > 0.0));
+    Ok((body > 0.0 || wall > 0.0 || own)
+        .then_some(crate::contact::tangential::Friction { body, wall }))
 }

@@ -130,6 +130,8 @@ pub struct MaterialSection {
     pub young: Option<f64>,
     /// Poisson ratio (needed where bodies can touch).
     pub poisson: Option<f64>,
+    /// Coulomb coefficient of the material (default: `[contact]`'s).
+    pub friction: Option<f64>,
 }
 
 /// `body.shape`.

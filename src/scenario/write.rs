@@ -92,6 +92,9 @@ impl fmt::Display for BedScenario<'_> {
                 num(m.young),
                 num(m.poisson)
             )?;
+            if let Some(mu) = m.friction {
+                writeln!(s, "friction = {}", num(mu))?;
+            }
         }
         if self.restitution.is_some() || self.friction.is_some() {
             writeln!(s, "\n[contact]")?;

@@ -124,9 +124,10 @@ fn the_spring_energy_is_booked_apart_and_the_budget_closes() {
 /// a restitution of 0.3 slides until `t* = 2 v₀/(7 μ g)` (48.5 ms). Once
 /// its start's bounces are damped (from 20 ms on) it rests on the floor at
 /// the Hertz overlap `m g = k δ^{3/2}` and its spring holds the cap,
-/// `e_spring = (μ m g)²/(2 k_t)`, `k_t = 8 G* √(R δ)`, to 1e-6 relative;
-/// the damping's part of the sliding spring (`ξ = −(f + η_t v_t)/k_t`,
-/// orders of magnitude longer) is not counted (docs/contacts.md).
+/// `e_spring = (μ m g)²/(2 k_t)`, `k_t = 8 G* √(R δ)`, to 1e-6 relative
+/// (a sliding spring holds the cap, `ξ = −f/k_t`: the damping takes no
+/// part in it; Luding's reset `ξ = −(f + η_t v_t)/k_t` would store a spring
+/// orders of magnitude longer, docs/contacts.md).
 #[test]
 fn a_damped_sliding_spring_holds_the_cap_energy() {
     let dir = tempfile::tempdir().unwrap();

@@ -107,8 +107,8 @@ pub(crate) struct PointLoad {
     /// law's force alike), for the ledger; `None` for a law that has none.
     pub dissipative: Option<Wrench>,
     /// Energy the point's tangential spring holds after this computation,
-    /// `½ k_t |ξ|²` with this computation's `k_t`, counted up to the
-    /// Coulomb cap (`tangential::spring_energy`), J (0 without friction).
+    /// `½ k_t |ξ|²` with this computation's `k_t`
+    /// (`tangential::spring_energy`), J (0 without friction).
     pub spring: f64,
 }
 
@@ -321,7 +321,7 @@ impl<F: Keeping> CandidateLaw<'_, F> {
                 total: Wrench::at(f_n * c.normal + f_t, c.point, couple, ca, cb),
                 elastic: c.weight * u,
                 dissipative: Some(Wrench::at(f_d * c.normal + f_t, c.point, None, ca, cb)),
-                spring: spring_energy(record.xi, k_t, cap),
+                spring: spring_energy(record.xi, k_t),
             };
         }
         PointLoad {

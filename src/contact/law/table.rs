@@ -29,6 +29,8 @@ struct Kind {
     diameter: f64,
     young: f64,
     poisson: f64,
+    /// The material's own Coulomb coefficient, if it has one.
+    friction: Option<f64>,
 }
 
 /// The law constants of a contact scene.
@@ -80,6 +82,7 @@ impl LawTable {
                             diameter,
                             young: m.young,
                             poisson: m.poisson,
+                            friction: m.friction,
                         });
                         (kinds.len() - 1) as u32
                     })
@@ -116,21 +119,31 @@ impl LawTable {
         self
     }
 
-    /// The table with the Coulomb friction `f` (`None`: frictionless),
-    /// its springs advanced by `dt` per computation.
+    /// The table with the Coulomb friction `f` (`None`: frictionless; the
+    /// defaults of materials without their own, with the pair rule of
+    /// [`Friction::pair`]), its springs advanced by `dt` per computation.
     pub(crate) fn with_friction(mut self, f: Option<Friction>, dt: f64) -> Self {
         self.friction = f.map(|f| (f, dt));
         self.tangential_wall = match (f, self.wall_material) {
-            (Some(f), Some((young, poisson))) if f.wall > 0.0 => (self.kinds.iter())
-                .map(|k| Tangential::new(f.wall, k.young, k.poisson, young, poisson))
+            (Some(f), Some((young, poisson))) => (self.kinds.iter())
+                .map(|k| {
+                    Tangential::new(
+                        f.against_wall(k.friction),
+                        k.young,
+                        k.poisson,
+                        young,
+                        poisson,
+                    )
+                })
                 .collect(),
             _ => vec![],
         };
         self.tangential_pair = match f {
-            Some(f) if f.body > 0.0 && self.kinds.len() <= MAX_TABLE_KINDS => (self.kinds.iter())
+            Some(f) if self.kinds.len() <= MAX_TABLE_KINDS => (self.kinds.iter())
                 .flat_map(|a| {
                     (self.kinds.iter()).map(move |b| {
-                        Tangential::new(f.body, a.young, a.poisson, b.young, b.poisson)
+                        let mu = f.pair(a.friction, b.friction);
+                        Tangential::new(mu, a.young, a.poisson, b.young, b.poisson)
                     })
                 })
                 .collect(),
@@ -153,41 +166,34 @@ impl LawTable {
     }
 
     /// The tangential law of body `a` against the walls and the time step,
-    /// if the walls are frictional.
+    /// if that contact is frictional.
     #[inline]
     pub(crate) fn tangential_wall(&self, a: usize) -> Option<(Tangential, f64)> {
-        let (f, dt) = self.friction?;
-        let (young, poisson) = self.wall_material?;
-        let k = self.kinds[self.kind_of[a] as usize];
-        (f.wall > 0.0).then(|| {
-            (
-                Tangential::new(f.wall, k.young, k.poisson, young, poisson),
-                dt,
-            )
-        })
+        let (_, dt) = self.friction?;
+        let t = *self.tangential_wall.get(self.kind_of[a] as usize)?;
+        (t.mu > 0.0).then_some((t, dt))
     }
 
     /// The tangential law of bodies `a` and `b` and the time step, if
-    /// body contacts are frictional.
+    /// their contact is frictional.
     #[inline]
     pub(crate) fn tangential_pair(&self, a: usize, b: usize) -> Option<(Tangential, f64)> {
         let (f, dt) = self.friction?;
-        if f.body == 0.0 {
-            return None;
-        }
         let (ka, kb) = (self.kind_of[a] as usize, self.kind_of[b] as usize);
-        match self.tangential_pair.get(ka * self.kinds.len() + kb) {
-            Some(&t) => Some((t, dt)),
-            None => Some((self.tangential_computed(f.body, ka, kb), dt)),
-        }
+        let t = match self.tangential_pair.get(ka * self.kinds.len() + kb) {
+            Some(&t) => t,
+            None => self.tangential_computed(f, ka, kb),
+        };
+        (t.mu > 0.0).then_some((t, dt))
     }
 
     /// The tangential law of kinds `ka` and `kb` when the table was not
     /// made.
     #[cold]
     #[inline(never)]
-    fn tangential_computed(&self, mu: f64, ka: usize, kb: usize) -> Tangential {
+    fn tangential_computed(&self, f: Friction, ka: usize, kb: usize) -> Tangential {
         let (a, b) = (self.kinds[ka], self.kinds[kb]);
+        let mu = f.pair(a.friction, b.friction);
         Tangential::new(mu, a.young, a.poisson, b.young, b.poisson)
     }
 
@@ -237,6 +243,7 @@ impl Kind {
             diameter: body.shape.diameter(),
             young: m.young,
             poisson: m.poisson,
+            friction: m.friction,
         }
     }
 }
@@ -299,6 +306,7 @@ mod tests {
             density: 1100.0,
             young,
             poisson,
+            friction: None,
         }
     }
 
@@ -319,6 +327,36 @@ mod tests {
         young: 2e11,
         poisson: 0.3,
     };
+
+    /// The pair rule: two bodies take the smaller of their materials' μ, a
+    /// material without its own takes `[contact] friction`; a body and a
+    /// wall the smaller of its material's μ (else `wall_friction`) and
+    /// `wall_friction`; a pair at μ = 0 is frictionless.
+    #[test]
+    fn a_pair_takes_the_smaller_mu() {
+        let mut materials = vec![material(5e7, 0.35); 4];
+        materials[0].friction = Some(0.2);
+        materials[1].friction = Some(0.5);
+        materials[3].friction = Some(0.0);
+        let bodies: Vec<_> = (0..4).map(|m| fibre(0.01, m)).collect();
+        let f = Friction {
+            body: 0.3,
+            wall: 0.4,
+        };
+        let t = LawTable::new(&bodies, &materials, Some(&WALLS)).with_friction(Some(f), 1e-6);
+        let mu = |a, b| t.tangential_pair(a, b).map(|(t, _)| t.mu);
+        assert_eq!(mu(0, 1), Some(0.2));
+        assert_eq!(mu(1, 0), Some(0.2));
+        assert_eq!(mu(1, 1), Some(0.5));
+        assert_eq!(mu(1, 2), Some(0.3));
+        assert_eq!(mu(2, 2), Some(0.3));
+        assert_eq!(mu(0, 3), None);
+        let wall = |a| t.tangential_wall(a).map(|(t, _)| t.mu);
+        assert_eq!(
+            [wall(0), wall(1), wall(2), wall(3)],
+            [Some(0.2), Some(0.4), Some(0.4), None]
+        );
+    }
 
     /// Reference: the laws built for each pair and each body (as the stage
     /// built them before the table), compared bit for bit.
