@@ -1004,14 +1004,16 @@ impl Blocks {
 #[cfg(feature = "mpi")]
 impl Blocks {
     /// Each hit of the last [`Blocks::compute`] (with `keep_hits`), walls
-    /// first, in candidate order: `(wall, candidate, points)`, each point
-    /// `[w U(δ), δ/D on A, δ/D on B]` as the blocks hold and note them (an
+    /// first, in candidate order: `(wall, candidate, points, springs)`,
+    /// each point `[w U(δ), δ/D on A, δ/D on B]` as the blocks hold and
+    /// note them, and the energies of its points' springs (one per point;
+    /// none for a law that keeps no records) as the blocks sum them (an
     /// MPI rank's share of the scene statistics, `src/ranks/tally.rs`).
     pub(crate) fn for_each_hit(
         &self,
         list: &NeighbourList,
         geoms: &[FibreGeom],
-        mut f: impl FnMut(bool, u32, &mut dyn Iterator<Item = [f64; 3]>),
+        mut f: impl FnMut(bool, u32, &mut dyn Iterator<Item = [f64; 3]>, &[f64]),
     ) {
         // With `keep_hits` the rings hold the whole list.
         let (walls, pairs) = (list.walls.len(), list.pairs.len());
@@ -1021,14 +1023,18 @@ impl Blocks {
             .map(lock)
             .enumerate()
         {
+            let mut kept = KeptSprings::default();
             for (k, points) in block.hits() {
                 let candidate = (n * BLOCK + k) as u32;
-                let da = diameter(list.walls[candidate as usize].0);
+                let (a, w) = list.walls[candidate as usize];
+                let springs = kept.of(&block, (a, w), points.len());
+                let da = diameter(a);
                 let points = &block.points[points];
                 f(
                     true,
                     candidate,
                     &mut points.iter().map(|p| [p.energy, p.overlap / da, 0.0]),
+                    springs,
                 );
             }
         }
@@ -1037,9 +1043,11 @@ impl Blocks {
             .map(lock)
             .enumerate()
         {
+            let mut kept = KeptSprings::default();
             for (k, points) in block.hits() {
                 let candidate = (n * BLOCK + k) as u32;
                 let (a, b) = list.pairs[candidate as usize];
+                let springs = kept.of(&block, (a, b), points.len());
                 let (da, db) = (diameter(a), diameter(b));
                 let points = &block.points[points];
                 f(
@@ -1048,8 +1056,33 @@ impl Blocks {
                     &mut points
                         .iter()
                         .map(|p| [p.energy, p.overlap / da, p.overlap / db]),
+                    springs,
                 );
             }
+        }
+    }
+}
+
+/// A cursor over a block's records while its hits are read in order: a
+/// hit whose law keeps records has one per point, in order (the loop's
+/// `keep`); one whose law keeps none (a frictionless wall, say) has none.
+#[cfg(feature = "mpi")]
+#[derive(Default)]
+struct KeptSprings {
+    next: usize,
+}
+
+#[cfg(feature = "mpi")]
+impl KeptSprings {
+    /// The springs' energies of the hit `(a, b)` of `points` points.
+    fn of<'b>(&mut self, block: &'b Block, (a, b): (u32, u32), points: usize) -> &'b [f64] {
+        match block.records.get(self.next) {
+            Some((key, _)) if (key.a, key.b) == (a, b) => {
+                let springs = &block.springs[self.next..self.next + points];
+                self.next += points;
+                springs
+            }
+            _ => &[],
         }
     }
 }

@@ -567,15 +567,30 @@ impl ContactStage {
             self.geoms[i] = geom(&bodies[i], &states[i]);
             self.motion[i] = motion[i];
         }
-        // Frictional scenes are not decomposed yet (`ranks::refuse`): their
-        // springs' energy is not summed across ranks.
-        assert!(self.history.is_none(), "a frictionless law on MPI ranks");
-        let laws = Laws::<Frictionless>::new(&self.laws, bodies, states);
+        // The rank's share of the springs' energy is not this stage's: rank
+        // 0 sums every rank's in the one-process order (`ranks/tally.rs`).
+        if self.laws.keeps_history() {
+            self.listed::<Frictional>(list, bodies, states, force, torque);
+        } else {
+            self.listed::<Frictionless>(list, bodies, states, force, torque);
+        }
+    }
+
+    /// The candidate loop over `list`, keeping its hits, with laws that
+    /// keep records or not (`F`).
+    fn listed<F: Keeping>(
+        &mut self,
+        list: &mut NeighbourList,
+        bodies: &[Body],
+        states: &[BodyState],
+        force: &mut [DVec3],
+        torque: &mut [DVec3],
+    ) {
         candidate_loop(
             &mut self.blocks,
             list,
             (&self.geoms, &self.kinds, &self.motion, &self.walls),
-            &laws,
+            &Laws::<F>::new(&self.laws, bodies, states),
             (force, torque),
             &mut self.counters,
             self.ledger.as_mut().map(WorkLedger::loads),
@@ -585,12 +600,19 @@ impl ContactStage {
         );
     }
 
+    /// The springs' energy of the whole scene at the last computation
+    /// (an MPI rank's, summed by rank 0 in the one-process order), J.
+    pub(crate) fn set_spring_energy(&mut self, spring: f64) {
+        self.spring = spring;
+    }
+
     /// Each touching candidate of the last [`Self::compute_listed`]:
-    /// `(wall, candidate, [(weight·U, δ/D on A, δ/D on B)])` in list order.
+    /// `(wall, candidate, [(weight·U, δ/D on A, δ/D on B)], springs'
+    /// energies)` in list order.
     pub(crate) fn for_each_hit(
         &self,
         list: &NeighbourList,
-        f: impl FnMut(bool, u32, &mut dyn Iterator<Item = [f64; 3]>),
+        f: impl FnMut(bool, u32, &mut dyn Iterator<Item = [f64; 3]>, &[f64]),
     ) {
         self.blocks.for_each_hit(list, &self.geoms, f);
     }

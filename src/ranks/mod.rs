@@ -58,18 +58,6 @@ pub struct Job<'a> {
     pub quiet: bool,
 }
 
-/// What the decomposition does not cover yet, refused with its fix.
-fn refuse(scene: &Scene) -> Result<()> {
-    if scene.friction.is_some() {
-        return Err(Error::bad(
-            &scene.source,
-            "friction",
-            "frictional scenes ([contact] friction or wall_friction > 0) are not decomposed yet (the energy of their springs is not summed across ranks); run them without mpirun",
-        ));
-    }
-    Ok(())
-}
-
 /// `job` on the MPI ranks: every rank runs it; rank 0 writes, and hands
 /// its outcome to `report` (what the caller prints of it). A stop (a
 /// guard, Ctrl-C) ends every rank with the same diagnosis and exit code;
@@ -85,11 +73,7 @@ pub fn run(mut job: Job, report: impl FnOnce(&Scene, &Result<Summary>)) -> Resul
     let initial = std::mem::take(&mut job.scene.initial);
     let result = run_ranked(&job, initial, &world, root, report);
     match &result {
-        Err(e)
-            if root
-                && !matches!(e, Error::Unstable(_) | Error::Interrupted(_))
-                && refuse(&job.scene).is_ok() =>
-        {
+        Err(e) if root && !matches!(e, Error::Unstable(_) | Error::Interrupted(_)) => {
             // Only rank 0 writes: the others wait in a collective.
             eprintln!("error: {e}");
             world.abort(e.exit_code());
@@ -112,7 +96,6 @@ fn run_ranked(
     report_outcome: impl FnOnce(&Scene, &Result<Summary>),
 ) -> Result<()> {
     let scene = &job.scene;
-    refuse(scene)?;
     let out_dir = &job.opts.out_dir;
     if root {
         for w in &job.warnings {

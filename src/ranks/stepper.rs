@@ -488,7 +488,7 @@ impl<'c> RankStep<'c> {
             let owner = &self.slabs.owner;
             let msg = &mut self.msg;
             let mut hits = Vec::new();
-            stage.for_each_hit(list, |wall, c, points| {
+            stage.for_each_hit(list, |wall, c, points, springs| {
                 let key = if wall {
                     let (a, k) = list.walls[c as usize];
                     HitKey {
@@ -504,11 +504,13 @@ impl<'c> RankStep<'c> {
                     }
                     HitKey { pair: true, a, b }
                 };
-                hits.push((key, points.collect::<smallvec::SmallVec<[[f64; 3]; 2]>>()));
+                let points = points.collect::<smallvec::SmallVec<[[f64; 3]; 2]>>();
+                let springs = smallvec::SmallVec::<[f64; 2]>::from_slice(springs);
+                hits.push((key, points, springs));
             });
             // The rank's notes in the one-process order: walls, then pairs.
-            hits.sort_by_key(|(k, _)| (k.pair, k.a, k.b));
-            for (k, points) in &hits {
+            hits.sort_by_key(|(k, ..)| (k.pair, k.a, k.b));
+            for (k, points, springs) in &hits {
                 let (pair, a, b) = (k.pair as u8 as f64, k.a as f64, k.b as f64);
                 for (j, p) in points.iter().enumerate() {
                     peak.note(p[1], [pair, a, b, j as f64, 0.0], k.a);
@@ -516,13 +518,13 @@ impl<'c> RankStep<'c> {
                         peak.note(p[2], [pair, a, b, j as f64, 1.0], k.b);
                     }
                 }
-                tally::push_hit(msg, *k, points.iter().map(|p| p[0]));
+                tally::push_hit(msg, *k, points.iter().map(|p| p[0]), springs);
             }
         }
         self.msg[2..2 + tally::PEAK].copy_from_slice(&peak.to_array());
         let gathered = self.comm.gather(&self.msg);
         self.msg.clear();
-        let mut out = [0.0; 11];
+        let mut out = [0.0; 12];
         if let Some((all, counts)) = gathered {
             let n = w.states.len();
             self.terms.resize(n, [0.0; 3]);
@@ -564,7 +566,11 @@ impl<'c> RankStep<'c> {
                     stage.close_work(closing, full);
                 }
             }
-            let stats = tally::contact_stats(&hits, &peaks);
+            let (stats, spring) = tally::contact_stats(&hits, &peaks);
+            if let Some(stage) = &mut w.contacts {
+                // Before the dissipated energy, which is net of it.
+                stage.set_spring_energy(spring);
+            }
             let l = tally::ledger(&self.terms, stats.elastic, w.dissipated());
             out = [
                 l.gravity,
@@ -578,13 +584,17 @@ impl<'c> RankStep<'c> {
                 stop as u8 as f64,
                 0.0,
                 0.0,
+                spring,
             ];
             let ledger = w.contacts.as_ref().and_then(|c| c.damping_state());
-            out[9..].copy_from_slice(&ledger.unwrap_or_default());
+            out[9..11].copy_from_slice(&ledger.unwrap_or_default());
         }
         self.comm.broadcast(&mut out);
-        if let Some(stage) = w.contacts.as_mut().filter(|_| work > 0) {
-            stage.set_damping_state([out[9], out[10]]);
+        if let Some(stage) = w.contacts.as_mut() {
+            if work > 0 {
+                stage.set_damping_state([out[9], out[10]]);
+            }
+            stage.set_spring_energy(out[11]);
         }
         w.ledger = Ledger {
             gravity: out[0],
@@ -592,8 +602,7 @@ impl<'c> RankStep<'c> {
             rotation: out[2],
             elastic: out[3],
             dissipated: w.dissipated(),
-            // (Frictional scenes are not decomposed.)
-            spring: 0.0,
+            spring: out[11],
         };
         if let Some(stage) = &mut w.contacts {
             stage.stats = ContactStats {
