@@ -256,57 +256,7 @@ fn three_and_four_ranks_give_the_bytes_of_one_process() {
 /// run.
 #[test]
 fn a_checkpoint_resumes_with_another_rank_count() {
-    let s = scene();
-    let whole = one_process(&s);
-    let path = s.path.to_str().unwrap();
-    let half = |dir: &str, k: usize| {
-        let out = s.root.join(dir);
-        let a = [
-            "run",
-            path,
-            "--out",
-            out.to_str().unwrap(),
-            "--t-end",
-            "1.5e-3",
-            "--every",
-            "20",
-            "--checkpoint-every",
-            "1500",
-            "-q",
-        ];
-        ok(&on(k, &a));
-        out.join("checkpoint.json")
-    };
-    let resume = |ckpt: &Path, dir: &str, k: usize| {
-        let out = s.root.join(dir);
-        let a = [
-            "run",
-            "--resume",
-            ckpt.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--t-end",
-            "3e-3",
-            "--checkpoint-every",
-            "1500",
-            "-q",
-        ];
-        ok(&on(k, &a));
-        bytes(&out)
-    };
-    let reference = resume(&half("h1", 1), "r11", 1);
-    assert!(
-        reference.states == whole.states,
-        "a one-process resume ends in the whole run's states"
-    );
-    let two = half("h2", 2);
-    for k in [1, 3] {
-        same(
-            &resume(&two, &format!("r2{k}"), k),
-            &reference,
-            &format!("resumed on {k} from 2 ranks"),
-        );
-    }
+    resumes_with_another_rank_count(scene(), &[1, 3]);
 }
 
 /// A damped bed's checkpoint written by 2 ranks halfway (the loads and
@@ -315,13 +265,13 @@ fn a_checkpoint_resumes_with_another_rank_count() {
 /// from a one-process checkpoint, which ends in the whole run's states.
 #[test]
 fn a_damped_checkpoint_resumes_with_another_rank_count() {
-    resumes_with_another_rank_count(rough_bed("restitution = 0.5\n"));
+    resumes_with_another_rank_count(scene_with(rough_bed("restitution = 0.5\n")), &[1, 2]);
 }
 
-/// [`a_damped_checkpoint_resumes_with_another_rank_count`] for the scene
-/// `text`.
-fn resumes_with_another_rank_count(text: String) {
-    let s = scene_with(text);
+/// A checkpoint of `s` written by 2 ranks halfway resumes on each of
+/// `ranks` with the bytes of a one-process run resumed from a one-process
+/// checkpoint, which ends in the whole run's states.
+fn resumes_with_another_rank_count(s: Scene, ranks: &[usize]) {
     let whole = one_process(&s);
     let path = s.path.to_str().unwrap();
     let half = |dir: &str, k: usize| {
@@ -365,7 +315,7 @@ fn resumes_with_another_rank_count(text: String) {
         "a one-process resume ends in the whole run's states"
     );
     let two = half("h2", 2);
-    for k in [1, 2] {
+    for &k in ranks {
         same(
             &resume(&two, &format!("r2{k}"), k),
             &reference,
@@ -564,5 +514,5 @@ fn a_frictional_bed_under_three_and_four_ranks_gives_the_bytes_of_one_process() 
 /// with the bytes of the one-process resume and the whole run's states.
 #[test]
 fn a_frictional_checkpoint_resumes_with_another_rank_count() {
-    resumes_with_another_rank_count(rough_bed(FRICTIONAL[1]));
+    resumes_with_another_rank_count(scene_with(rough_bed(FRICTIONAL[1])), &[1, 2]);
 }
