@@ -24,12 +24,14 @@
 //! (a counting allocator wraps the system one), and the allocations of the
 //! timed steps (the most of any run: a settled bed should make none).
 
-use fibresim::integrate::rotate::{Rotator, RotatorVisitor};
+#[path = "common/stepping.rs"]
+mod stepping;
 use fibresim::integrate::step::{StageTimes, World};
 use fibresim::scenario::Scene;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
+use stepping::{median, Steps};
 
 /// The system allocator, counting the bytes in use, their peak, and the
 /// allocations (`alloc` and `realloc` calls).
@@ -123,34 +125,9 @@ fn lattice(n: usize) -> Scene {
     scene
 }
 
-/// Run `steps` steps of the world with rotator `R`.
-struct Steps<'a, 's>(&'a mut World<'s>, u64);
-
-impl RotatorVisitor for Steps<'_, '_> {
-    type Output = ();
-    fn visit<R: Rotator>(self) {
-        for _ in 0..self.1 {
-            self.0.step::<R>().expect("the bed stays stable");
-        }
-    }
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
 fn main() {
-    let args: Vec<String> = std::env::args()
-        .skip(1)
-        .filter(|a| a != "--bench")
-        .collect();
-    let flag = |name: &str| {
-        args.iter()
-            .position(|a| a == name)
-            .and_then(|i| args.get(i + 1))
-            .cloned()
-    };
+    let args = stepping::args();
+    let flag = |name: &str| stepping::flag(&args, name);
     let steps: u64 = flag("--steps").map_or(200, |s| s.parse().expect("--steps N"));
     let repeats: usize = flag("--repeats").map_or(5, |s| s.parse().expect("--repeats N"));
     let threads: Vec<usize> = flag("--threads")

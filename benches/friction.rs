@@ -15,41 +15,18 @@
 //! normally has a restitution); frictional against elastic is printed too.
 //! Each round runs every law once, in turn, from the same settled state.
 
+#[path = "common/stepping.rs"]
+mod stepping;
 use fibresim::contact::damping::Restitution;
 use fibresim::contact::tangential::Friction;
-use fibresim::integrate::rotate::{Rotator, RotatorVisitor};
 use fibresim::integrate::step::World;
 use fibresim::scenario::Scene;
 use std::time::Instant;
-
-/// Run `steps` steps of the world with rotator `R`.
-struct Steps<'a, 's>(&'a mut World<'s>, u64);
-
-impl RotatorVisitor for Steps<'_, '_> {
-    type Output = ();
-    fn visit<R: Rotator>(self) {
-        for _ in 0..self.1 {
-            self.0.step::<R>().expect("the bed stays stable");
-        }
-    }
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
+use stepping::{median, Steps};
 
 fn main() {
-    let args: Vec<String> = std::env::args()
-        .skip(1)
-        .filter(|a| a != "--bench")
-        .collect();
-    let flag = |name: &str| {
-        args.iter()
-            .position(|a| a == name)
-            .and_then(|i| args.get(i + 1))
-            .cloned()
-    };
+    let args = stepping::args();
+    let flag = |name: &str| stepping::flag(&args, name);
     let steps: u64 = flag("--steps").map_or(2000, |s| s.parse().expect("--steps N"));
     let rounds: usize = flag("--rounds").map_or(5, |s| s.parse().expect("--rounds N"));
     let threads: usize = flag("--threads").map_or(1, |s| s.parse().expect("--threads N"));
