@@ -55,7 +55,7 @@ print(side, round($n * pi / 4 * 0.01**2 * $len / (side**2 * $phi0), 3))")
   # A bed that does not settle by t_end is still written (exit 2): measured
   # and reported as such.
   time "${nice[@]}" "$bin" settle "$out/loose_$name.toml" --threads 1 --check-every 500 \
-    --ke-per-fibre "$ke" --every 1000 -o "$out/settle_$name" --force -q \
+    --ke-per-body "$ke" --every 1000 -o "$out/settle_$name" --force -q \
     --write "$out/bed_$name.toml" --write-dt 1e-6 --write-t-end 0.002 || true
   "${nice[@]}" "$bin" run "$out/bed_$name.toml" --threads 1 --t-end 1e-5 --vtk-every 10 \
     -o "$out/frame_$name" --force -q

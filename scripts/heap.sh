@@ -29,7 +29,7 @@ print(w, round($n * pi / 4 * 0.01**2 * 0.03 / (w**2 * 0.12), 3))")
   --max-attempts 1000000 -o "$out/column_loose.toml" -q
 sed -i "s/^wall_restitution = 0.3\$/wall_restitution = 0.3\nfriction = $mu/" "$out/column_loose.toml"
 time "${nice[@]}" "$bin" settle "$out/column_loose.toml" --threads 1 --check-every 500 \
-  --ke-per-fibre 1e-6 --every 1000 -o "$out/settle_column" --force -q \
+  --ke-per-body 1e-6 --every 1000 -o "$out/settle_column" --force -q \
   --write "$out/column.toml" --write-dt 2e-5 --write-t-end 3 || true
 # The released column: the box [−W, 2W]² around the column's [0, W]².
 python3 - "$out/column.toml" "$out/released.toml" "$w" <<'PY'
@@ -42,6 +42,6 @@ assert f"min = [{-w}, {-w}, 0.0]" in t, "the column scenario's [box] was not fou
 open(dst, "w").write(t)
 PY
 time "${nice[@]}" "$bin" settle "$out/released.toml" --restitution 0.3 --threads 1 \
-  --check-every 500 --ke-per-fibre 1e-6 --every 1000 -o "$out/settle_heap" --force -q \
+  --check-every 500 --ke-per-body 1e-6 --every 1000 -o "$out/settle_heap" --force -q \
   --write "$out/heap.toml" --write-dt 1e-6 --write-t-end 0.002 || true
 python3 scripts/heap_angle.py "$out/heap.toml" --png "$out/heap_profile.png" | tee "$out/angle.txt"

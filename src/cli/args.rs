@@ -60,7 +60,7 @@ pub enum Command {
     Stress(StressArgs),
     /// Write a scenario with N non-overlapping fibres in a box, and its body file (random sequential placement on a cell grid).
     Generate(GenerateArgs),
-    /// Run a scenario with damping until its kinetic energy per fibre is below a threshold, then write the settled bed (an elastic scenario and its body file).
+    /// Run a scenario with damping until its kinetic energy per body is below a threshold, then write the settled bed (an elastic scenario and its body file).
     Settle(SettleArgs),
     /// Copy a bed NX x NY x NZ times side by side in a box as many times larger (as LAMMPS's `replicate`), writing a scenario and its body file.
     Replicate(ReplicateArgs),
@@ -191,9 +191,9 @@ pub struct SettleArgs {
     /// Give up after this simulated time, s [default: the scenario's t_end].
     #[arg(long = "t-end")]
     pub t_end: Option<f64>,
-    /// Settled when the kinetic energy (translation + rotation) per fibre is at most this, J [default: 1e-4 x the mean m g D], and under gravity every fibre touches a fibre or a wall.
-    #[arg(long)]
-    pub ke_per_fibre: Option<f64>,
+    /// Settled when the kinetic energy (translation + rotation) per body is at most this, J [default: 1e-4 x the mean m g D], and under gravity every body touches a body or a wall.
+    #[arg(long = "ke-per-body", alias = "ke-per-fibre")]
+    pub ke_per_body: Option<f64>,
     /// Test the threshold every N steps [default: 100, or the resumed checkpoint's].
     #[arg(long)]
     pub check_every: Option<u64>,

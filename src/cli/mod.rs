@@ -363,7 +363,7 @@ fn settle(mut plan: plan::SettlePlan) -> Result<()> {
         Err(Error::bad(
             &scene.source,
             "--t-end",
-            format!("the bed did not settle by t = {} s (kinetic energy {:.3e} J per fibre); the unsettled bed was written anyway; give a longer --t-end", crate::fmt::short(s.steps as f64 * s.dt), ke / n),
+            format!("the bed did not settle by t = {} s (kinetic energy {:.3e} J per body); the unsettled bed was written anyway; give a longer --t-end", crate::fmt::short(s.steps as f64 * s.dt), ke / n),
         ))
     }
 }

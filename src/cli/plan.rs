@@ -772,8 +772,8 @@ impl SettleArgs {
                 "--",
             )?;
         }
-        let ke = match self.ke_per_fibre {
-            Some(k) => positive_flag("--ke-per-fibre", k)?,
+        let ke = match self.ke_per_body {
+            Some(k) => positive_flag("--ke-per-body", k)?,
             None if saved.is_some() => saved.as_ref().expect("checked").ke_per_fibre()?,
             None => {
                 // 1e-4 of the mean m g D (g = 9.81 m/s² without gravity).

@@ -132,7 +132,7 @@ fn run_ranked(
             return outcome.map(|_| ());
         }
     }
-    let ranks = report(&mut stepper, scene.bodies.len());
+    let ranks = report(&mut stepper);
     if let (Some(ranks), Ok(Some(_))) = (&ranks, &outcome) {
         if !job.quiet {
             eprint!("{}", ranks.table());
@@ -153,13 +153,12 @@ fn run_ranked(
 /// The per-rank report, on rank 0.
 struct Report {
     rows: Vec<[f64; ROW]>,
-    bodies: usize,
 }
 
 const ROW: usize = 10;
 
 /// Every rank's clocks and traffic, on rank 0.
-fn report(s: &mut RankStep, bodies: usize) -> Option<Report> {
+fn report(s: &mut RankStep) -> Option<Report> {
     let c: Clocks = s.clocks;
     let steps = c.steps.max(1) as f64;
     let row = [
@@ -180,7 +179,6 @@ fn report(s: &mut RankStep, bodies: usize) -> Option<Report> {
             .chunks_exact(ROW)
             .map(|r| r.try_into().expect("rows of ROW"))
             .collect(),
-        bodies,
     })
 }
 
@@ -243,7 +241,7 @@ impl Report {
         })?;
         let ranks = ranks.replace('\n', "\n  ");
         let out = format!("{},\n  \"ranks\": {ranks}\n}}\n", body.trim_end());
-        let _ = self.bodies;
-        std::fs::write(path, out).map_err(|e| Error::io(path, e))
+        // Whole or not at all: a kill here leaves the one-process summary.
+        crate::output::file::write_whole(path, out.as_bytes())
     }
 }

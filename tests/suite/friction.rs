@@ -396,7 +396,7 @@ fn a_settled_frictional_bed_keeps_its_friction() {
     let o = fibresim(&[
         "settle",
         file.to_str().unwrap(),
-        "--ke-per-fibre",
+        "--ke-per-body",
         "1",
         "--check-every",
         "100",
@@ -474,7 +474,7 @@ fn settle_friction_flags_override_the_scene() {
         let mut args = vec![
             "settle",
             file.to_str().unwrap(),
-            "--ke-per-fibre",
+            "--ke-per-body",
             "1",
             "--write",
             bed.to_str().unwrap(),

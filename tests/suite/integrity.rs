@@ -540,7 +540,7 @@ fn ctrl_c_on_settle_names_the_command_that_resumes_it() {
                 .args([
                     "settle",
                     s(&scene),
-                    "--ke-per-fibre",
+                    "--ke-per-body",
                     "1e-30",
                     "--t-end",
                     t_end,

@@ -24,7 +24,7 @@ fn settle_generously(
     extra: &[&str],
 ) -> std::process::Output {
     let (write, out) = (dir.join("settled.toml"), dir.join("out"));
-    let mut args = vec!["settle", scene.to_str().unwrap(), "--ke-per-fibre", "1"];
+    let mut args = vec!["settle", scene.to_str().unwrap(), "--ke-per-body", "1"];
     args.extend(["--check-every", "50", "--write", write.to_str().unwrap()]);
     args.extend(["--out", out.to_str().unwrap()]);
     args.extend(extra);
@@ -133,7 +133,7 @@ fn settle_refuses_elastic_scenes_and_reports_an_unsettled_bed() {
     std::fs::write(&scene, format!("{SCENE}{}", fibre(0.05, 0.05))).unwrap();
     let mut a = args(scene.to_str().unwrap());
     a.extend([
-        "--ke-per-fibre".into(),
+        "--ke-per-body".into(),
         "1e-30".into(),
         "--t-end".into(),
         "1e-3".into(),
