@@ -7,8 +7,8 @@
 #
 # CASES (default "3:0 3:0.3 3:0.5 10:0 10:0.3 10:0.5") is a list of AR:μ.
 # The sizes of docs/beds.md: N_AR3 = 2000, N_AR10 = 1000 (the default). The
-# 10⁴-fibre bed of aspect ratio 3 is the same with N_AR3 = 10000:
-# `scripts/friction_beds.sh out/beds10k 10000 1000 3:0.5`.
+# 10⁴-fibre beds of scenarios/ are the same with 10⁴ fibres:
+# `scripts/friction_beds.sh out/beds10k 10000 10000 "3:0.5 10:0.5"`.
 #
 # Each case: `generate` pours N fibres (D = 0.01 m, ρ = 1100 kg/m³,
 # E = 5e7 Pa, ν = 0.35) at random into a tall box; `settle` (e = 0.3,
