@@ -27,7 +27,9 @@
 
 use super::broad::NeighbourList;
 use super::fibre_fibre::PairMemory;
-use super::history::{recall, sorted, ContactKey, Entry, History};
+use super::history::{
+    pair_records, recall, recall_by_place, sorted, ContactKey, Entry, History, Recalled,
+};
 use super::law::{CandidateLaw, Keeping, Laws, PointLoad, Record, Side, Wrench};
 use super::shape::{collider, ColliderKind};
 use super::stage::ContactStats;
@@ -387,6 +389,21 @@ trait Candidates<'l>: Sync {
 
     /// The records of the last computation of this list (sorted by key).
     fn recorded(&self) -> &[Entry];
+
+    /// The records touching candidate `c`'s `points` start from, in their
+    /// order, into `out` (`cursor` as for `history::recall`): by key.
+    #[inline(always)]
+    fn recall(
+        &self,
+        c: &Self::Candidate,
+        points: &[ContactPoint],
+        cursor: &mut usize,
+        out: &mut Recalled,
+    ) {
+        for (s, p) in points.iter().enumerate() {
+            out.push(recall(self.recorded(), cursor, &self.key(c, s, p)));
+        }
+    }
 }
 
 /// What both lists read: the bodies' geometry records and collider kinds,
@@ -527,7 +544,10 @@ impl<'l, K: PairKernel, F: Keeping> Candidates<'l> for PairList<'_, 'l, K, F> {
         (a as usize, Some(b as usize))
     }
 
-    /// The point's rank in the kernel's output.
+    /// The point's rank in the kernel's output (the key keeps the store
+    /// sorted and unique; a point finds its record by place, [`recall`]).
+    ///
+    /// [`recall`]: Candidates::recall
     #[inline(always)]
     fn key(&self, &(a, b): &(u32, u32), s: usize, _: &ContactPoint) -> ContactKey {
         ContactKey {
@@ -539,6 +559,24 @@ impl<'l, K: PairKernel, F: Keeping> Candidates<'l> for PairList<'_, 'l, K, F> {
 
     fn recorded(&self) -> &[Entry] {
         self.recorded
+    }
+
+    /// By place (`history::recall_by_place`), within half the smaller
+    /// radius: a split contact's halves (A's radius from their centre)
+    /// are never taken for one another or for the point they split from.
+    #[inline(always)]
+    fn recall(
+        &self,
+        &(a, b): &(u32, u32),
+        points: &[ContactPoint],
+        cursor: &mut usize,
+        out: &mut Recalled,
+    ) {
+        let old = pair_records(self.recorded, cursor, (a, b));
+        let (ga, gb) = (&self.scene.geoms[a as usize], &self.scene.geoms[b as usize]);
+        let reach = 0.5 * ga.radius.min(gb.radius);
+        let places = points.iter().map(|p| (p.point - ga.centre, p.weight));
+        recall_by_place(old, places, reach, out);
     }
 }
 
@@ -555,20 +593,22 @@ fn each_candidate<'l, C: Candidates<'l>>(
     counters: &mut KernelCounters,
     sink: &mut impl Sink,
 ) {
-    // Where the last record was found (`history::recall`).
+    // Where the last record was found (`history::recall`), and the records
+    // a candidate's points start from.
     let mut cursor = 0;
+    let mut records = Recalled::new();
     for (k, (c, m)) in candidates.iter().zip(memory).enumerate() {
         buf.clear();
         list.eval(c, m, buf, counters);
         if !buf.is_empty() {
             let t = list.touching(c);
             if t.law.keeps_history() {
-                for (s, p) in buf.iter().enumerate() {
-                    let key = list.key(c, s, p);
-                    let mut record = recall(list.recorded(), &mut cursor, &key);
-                    let load = t.law.load(p, &mut record);
+                records.clear();
+                list.recall(c, buf, &mut cursor, &mut records);
+                for (s, (p, record)) in buf.iter().zip(&mut records).enumerate() {
+                    let load = t.law.load(p, record);
                     sink.point(&load, p.overlap, t.a, t.b);
-                    sink.keep((key, record), load.spring);
+                    sink.keep((list.key(c, s, p), *record), load.spring);
                 }
             } else {
                 for p in buf.iter() {

@@ -3,19 +3,27 @@
 //! contact's identity ([`ContactKey`]: its pair and its slot).
 //!
 //! A store is a vector sorted by key, one per candidate list (walls,
-//! body pairs). Each computation reads the last one ([`recall`]: mostly
-//! the entry after the last one found, else a binary search) and writes a new one in list order, from the blocks in the
-//! order they are added: a contact not touching this computation loses
-//! its record, and the bits do not depend on the thread count. Only a
-//! law that keeps something per contact (friction) has a store: a
-//! frictionless scene keeps none (no bytes, no work).
+//! body pairs). Each computation reads the last one (mostly the entries
+//! after the last ones found, else a binary search) and writes a new one
+//! in list order, from the blocks in the order they are added: a contact
+//! not touching this computation loses its record, and the bits do not
+//! depend on the thread count. Only a law that keeps something per
+//! contact (friction) has a store: a frictionless scene keeps none (no
+//! bytes, no work).
 //!
-//! A point's slot (docs/contacts.md, "Friction"): a fibre's end (0 or 1)
-//! against a wall; a sphere's 0 against a wall; the point's rank in the
-//! kernel's output for a body pair (a single contact: 0; a parallel
-//! pair's main point 0 and its second 1).
+//! How a point finds its record (docs/contacts.md, "Friction"): against a
+//! wall by its slot, a fibre's end (0 or 1), a sphere's 0 ([`recall`]); a
+//! body pair's points by place ([`recall_by_place`]): each takes the old
+//! record of the same pair that was nearest, one to one, nearest first,
+//! within a reach, as Bullet's persistent manifold matches a new point to
+//! its cached ones (`btPersistentManifold::getCacheEntry`, its contact
+//! breaking threshold). The kernels' output changes shape (parts appear
+//! and vanish as their weights reach 0), so a point's rank in it is no
+//! identity; its place is. A pair's slot is then only the point's rank,
+//! which keeps the store sorted and its keys unique.
 
 use super::law::Record;
+use glam::DVec3;
 
 /// A contact point's identity: body `a` and body `b` (`a < b`) or wall
 /// `b` (in the walls' store), and the point's slot.
@@ -63,6 +71,111 @@ pub(crate) fn recall(store: &[Entry], cursor: &mut usize, key: &ContactKey) -> R
     }
 }
 
+/// The records one candidate's points start from, in their order (a
+/// candidate has a handful of points: no allocation).
+pub(crate) type Recalled = smallvec::SmallVec<[Record; 8]>;
+
+/// The old records of body pair `(a, b)` in the sorted `store` (empty if
+/// it had none); `cursor` as for [`recall`], left after them.
+#[inline]
+pub(crate) fn pair_records<'s>(
+    store: &'s [Entry],
+    cursor: &mut usize,
+    (a, b): (u32, u32),
+) -> &'s [Entry] {
+    let of_pair = |e: &Entry| (e.0.a, e.0.b) == (a, b);
+    let start = match store.get(*cursor) {
+        Some(e) if of_pair(e) => *cursor,
+        _ => store.partition_point(|(k, _)| (k.a, k.b) < (a, b)),
+    };
+    let len = store[start..].iter().take_while(|e| of_pair(e)).count();
+    *cursor = start + len;
+    &store[start..start + len]
+}
+
+/// The records a body pair's new points start from, in their order, into
+/// `out`: `old` are the pair's records of the last computation, `points`
+/// the new points' places (relative to body A's centre, as
+/// [`Record::place`]) and weights.
+///
+/// A point's distance to a record is taken in place and weight, the
+/// weight scaled by `reach`: `√(|Δp|² + (reach Δw)²)`. A kernel can give
+/// two parts at one place (a line contact's end as the main contact's
+/// part and as the second's; a side–side part and the end-involved part
+/// it blends into): their weights tell them apart, where their places
+/// differ by rounding only. One to one, nearest first: of all old–new
+/// distances, the smallest is taken first (ties to the lower old index,
+/// then the lower new one), and so on while both sides have one left and
+/// the distance is at most `reach`; a point left without one starts from
+/// rest. A record without a place (read from a checkpoint that had none)
+/// is at distance 0 from the new point of its own rank, and out of reach
+/// of the others. One record and one point (a single contact) take one
+/// distance.
+#[inline]
+pub(crate) fn recall_by_place(
+    old: &[Entry],
+    points: impl ExactSizeIterator<Item = (DVec3, f64)> + Clone,
+    reach: f64,
+    out: &mut Recalled,
+) {
+    let n = points.len();
+    let start = out.len();
+    out.extend(std::iter::repeat_n(Record::default(), n));
+    // Squared distances, against the squared reach.
+    let distance = |(k, r): &Entry, j: usize, (p, w): (DVec3, f64)| {
+        if r.place.is_finite() {
+            r.place.distance_squared(p) + (reach * (r.weight - w)).powi(2)
+        } else if usize::from(k.slot) == j {
+            0.0
+        } else {
+            f64::INFINITY
+        }
+    };
+    let reach2 = reach * reach;
+    if let ([e], 1) = (old, n) {
+        let p = points.clone().next().expect("one point");
+        if distance(e, 0, p) <= reach2 {
+            out[start] = e.1;
+        }
+        return;
+    }
+    // Greedy by distance over the pair's few points (a kernel gives a
+    // handful): `MASK` bits of each side; points beyond start from rest.
+    const MASK: usize = 64;
+    let (mut old_left, mut new_left) = (mask(old.len().min(MASK)), mask(n.min(MASK)));
+    while old_left != 0 && new_left != 0 {
+        let mut best: Option<(f64, usize, usize)> = None;
+        for (i, e) in old.iter().enumerate().take(MASK) {
+            if old_left & (1 << i) == 0 {
+                continue;
+            }
+            for (j, p) in points.clone().enumerate().take(MASK) {
+                if new_left & (1 << j) == 0 {
+                    continue;
+                }
+                let d = distance(e, j, p);
+                if d <= reach2 && best.is_none_or(|(b, _, _)| d < b) {
+                    best = Some((d, i, j));
+                }
+            }
+        }
+        let Some((_, i, j)) = best else { break };
+        out[start + j] = old[i].1;
+        old_left &= !(1 << i);
+        new_left &= !(1 << j);
+    }
+}
+
+/// The lowest `k` bits set.
+#[inline]
+fn mask(k: usize) -> u64 {
+    if k >= 64 {
+        u64::MAX
+    } else {
+        (1 << k) - 1
+    }
+}
+
 /// `store` made sorted by key (a list's walls come body-major; a body's
 /// walls and their slots are put in order here).
 pub(crate) fn sorted(mut store: Vec<Entry>) -> Vec<Entry> {
@@ -73,21 +186,32 @@ pub(crate) fn sorted(mut store: Vec<Entry>) -> Vec<Entry> {
 }
 
 /// Bytes of one entry in a checkpoint's states file: `u32` a, `u32` b,
-/// `u8` slot, then the record's three `f64` (ξ), little-endian, exact bits.
-pub(crate) const ENTRY_BYTES: usize = 33;
+/// `u8` slot, then the record's seven `f64` (ξ, the place, the weight),
+/// little-endian, exact bits.
+pub(crate) const ENTRY_BYTES: usize = 9 + 8 * RAW;
 
-/// A record's numbers, in the order they are stored and sent.
+/// Bytes of one entry in a states file of the format before places
+/// (`fibresim-checkpoint-6`): the key and ξ.
+pub(crate) const ENTRY_BYTES_WITHOUT_PLACE: usize = 9 + 8 * 3;
+
+/// Numbers in a record ([`record_to_raw`]).
+pub(crate) const RAW: usize = 7;
+
+/// A record's numbers, in the order they are stored and sent: ξ, the
+/// place, the weight.
 #[inline]
-pub(crate) fn record_to_raw(r: &Record) -> [f64; 3] {
-    let Record { xi } = *r;
-    xi.to_array()
+pub(crate) fn record_to_raw(r: &Record) -> [f64; RAW] {
+    let Record { xi, place, weight } = *r;
+    [xi.x, xi.y, xi.z, place.x, place.y, place.z, weight]
 }
 
 /// The record of [`record_to_raw`]'s numbers.
 #[inline]
-pub(crate) fn record_from_raw(d: [f64; 3]) -> Record {
+pub(crate) fn record_from_raw(d: [f64; RAW]) -> Record {
     Record {
-        xi: glam::DVec3::from_array(d),
+        xi: DVec3::new(d[0], d[1], d[2]),
+        place: DVec3::new(d[3], d[4], d[5]),
+        weight: d[6],
     }
 }
 
@@ -111,7 +235,20 @@ impl History {
     /// The store at the start of `b` (as [`History::encode`] wrote it) for
     /// `n` bodies and `walls` walls, and the bytes it took; or what is
     /// wrong: a truncated section, a key no run writes, keys out of order.
-    pub(crate) fn decode(b: &[u8], n: usize, walls: usize) -> Result<(Self, usize), String> {
+    /// Without `places` (the format before them) the entries hold ξ only,
+    /// and each record's place is NaN: a pair's record then goes to the
+    /// new point of its own rank ([`recall_by_place`]), the old rule.
+    pub(crate) fn decode(
+        b: &[u8],
+        n: usize,
+        walls: usize,
+        places: bool,
+    ) -> Result<(Self, usize), String> {
+        let entry_bytes = if places {
+            ENTRY_BYTES
+        } else {
+            ENTRY_BYTES_WITHOUT_PLACE
+        };
         let mut at = 0;
         let mut h = History::default();
         for (name, pairs) in [("wall", false), ("pair", true)] {
@@ -121,12 +258,12 @@ impl History {
                 .ok_or("the contacts' records are truncated")? as usize;
             at += 8;
             let len = count
-                .checked_mul(ENTRY_BYTES)
+                .checked_mul(entry_bytes)
                 .filter(|&l| at + l <= b.len())
                 .ok_or("the contacts' records are truncated")?;
             let store = if pairs { &mut h.pairs } else { &mut h.walls };
             store.reserve(count);
-            for e in b[at..at + len].chunks_exact(ENTRY_BYTES) {
+            for e in b[at..at + len].chunks_exact(entry_bytes) {
                 let word = |i: usize| u32::from_le_bytes(e[i..i + 4].try_into().expect("4 bytes"));
                 let f = |i: usize| {
                     f64::from_bits(u64::from_le_bytes(e[i..i + 8].try_into().expect("8 bytes")))
@@ -154,7 +291,11 @@ impl History {
                         key.a, key.b, key.slot
                     ));
                 }
-                store.push((key, record_from_raw([f(9), f(17), f(25)])));
+                let mut raw = [f64::NAN; RAW];
+                for (k, x) in raw.iter_mut().take((entry_bytes - 9) / 8).enumerate() {
+                    *x = f(9 + 8 * k);
+                }
+                store.push((key, record_from_raw(raw)));
             }
             at += len;
         }
@@ -173,6 +314,7 @@ mod tests {
         let key = |a, b, slot| ContactKey { a, b, slot };
         let rec = |x| Record {
             xi: DVec3::new(x, 0.0, 0.0),
+            ..Record::default()
         };
         let store = sorted(vec![
             (key(3, 1, 0), rec(3.0)),
@@ -198,6 +340,8 @@ mod tests {
         let key = |a, b, slot| ContactKey { a, b, slot };
         let rec = |x: f64| Record {
             xi: DVec3::new(x, -x * 1e-3, f64::from_bits(x.to_bits() ^ 1)),
+            place: DVec3::new(-x, 1e-300, x * 7.0),
+            weight: 0.5 - x,
         };
         let h = History {
             walls: vec![(key(0, 5, 1), rec(1e-7)), (key(2, 0, 0), rec(-3e-9))],
@@ -206,7 +350,7 @@ mod tests {
         let mut b = vec![];
         h.encode(&mut b);
         assert_eq!(b.len(), 16 + 4 * ENTRY_BYTES);
-        let (back, used) = History::decode(&b, 5, 6).unwrap();
+        let (back, used) = History::decode(&b, 5, 6, true).unwrap();
         assert_eq!(used, b.len());
         let bits = |h: &History| {
             h.walls
@@ -216,8 +360,117 @@ mod tests {
                 .collect::<Vec<_>>()
         };
         assert_eq!(bits(&back), bits(&h));
-        assert!(History::decode(&b[..b.len() - 1], 5, 6).is_err());
-        assert!(History::decode(&b, 4, 6).is_err(), "body 4 of 4");
-        assert!(History::decode(&b, 5, 5).is_err(), "wall 5 of 5");
+        assert!(History::decode(&b[..b.len() - 1], 5, 6, true).is_err());
+        assert!(History::decode(&b, 4, 6, true).is_err(), "body 4 of 4");
+        assert!(History::decode(&b, 5, 5, true).is_err(), "wall 5 of 5");
+
+        // The format before places: key and ξ only (33 bytes an entry),
+        // read with NaN places and weights.
+        let mut old = vec![];
+        for store in [&h.walls, &h.pairs] {
+            old.extend_from_slice(&(store.len() as u64).to_le_bytes());
+            for (k, r) in store {
+                old.extend_from_slice(&k.a.to_le_bytes());
+                old.extend_from_slice(&k.b.to_le_bytes());
+                old.push(k.slot);
+                for x in r.xi.to_array() {
+                    old.extend_from_slice(&x.to_bits().to_le_bytes());
+                }
+            }
+        }
+        assert_eq!(old.len(), 16 + 4 * ENTRY_BYTES_WITHOUT_PLACE);
+        let (back, used) = History::decode(&old, 5, 6, false).unwrap();
+        assert_eq!(used, old.len());
+        for ((k, r), (k0, r0)) in back
+            .walls
+            .iter()
+            .chain(&back.pairs)
+            .zip(h.walls.iter().chain(&h.pairs))
+        {
+            assert_eq!(k, k0);
+            assert_eq!(
+                r.xi.to_array().map(f64::to_bits),
+                r0.xi.to_array().map(f64::to_bits)
+            );
+            assert!(r.place.is_nan() && r.weight.is_nan());
+        }
+    }
+
+    fn entry(slot: u8, place: [f64; 3], weight: f64, xi: f64) -> Entry {
+        let key = ContactKey { a: 1, b: 2, slot };
+        let record = Record {
+            xi: DVec3::new(xi, 0.0, 0.0),
+            place: DVec3::from_array(place),
+            weight,
+        };
+        (key, record)
+    }
+
+    /// The springs a pair's new points `points` (place, weight) take of
+    /// `old`, within `reach` (0: started from rest).
+    fn taken(old: &[Entry], points: &[([f64; 3], f64)], reach: f64) -> Vec<f64> {
+        let mut out = Recalled::new();
+        let places = points.iter().map(|&(p, w)| (DVec3::from_array(p), w));
+        recall_by_place(old, places, reach, &mut out);
+        out.iter().map(|r| r.xi.x).collect()
+    }
+
+    /// Reference: the rule's statement (docs/contacts.md, "Identity and
+    /// history"), case by case: nearest first, one to one, within the
+    /// reach; weights tell apart parts at one place; a record without a
+    /// place goes to its own rank.
+    #[test]
+    fn a_pair_s_points_take_the_nearest_records_one_to_one() {
+        let r = 1e-3;
+        // One record, one point: within the reach or not.
+        let one = [entry(0, [0.0, 0.0, 0.0], 1.0, 7.0)];
+        assert_eq!(taken(&one, &[([0.9e-3, 0.0, 0.0], 1.0)], r), [7.0]);
+        assert_eq!(taken(&one, &[([1.1e-3, 0.0, 0.0], 1.0)], r), [0.0]);
+        // A part appears before the others (ranks shift): each keeps its own.
+        let old = [
+            entry(0, [0.0, 0.0, 0.0], 1.0, 1.0),
+            entry(1, [5e-3, 0.0, 0.0], 1.0, 2.0),
+        ];
+        let new = [
+            ([2e-3, 0.0, 0.0], 0.01),
+            ([1e-6, 0.0, 0.0], 1.0),
+            ([5e-3, 1e-6, 0.0], 1.0),
+        ];
+        assert_eq!(taken(&old, &new, r), [0.0, 1.0, 2.0]);
+        // Two records nearest one point: the nearer takes it, the other
+        // goes to the next nearest within reach.
+        let old = [
+            entry(0, [0.0, 0.0, 0.0], 1.0, 1.0),
+            entry(1, [0.4e-3, 0.0, 0.0], 1.0, 2.0),
+        ];
+        let new = [([0.1e-3, 0.0, 0.0], 1.0), ([0.5e-3, 0.0, 0.0], 1.0)];
+        assert_eq!(taken(&old, &new, r), [1.0, 2.0]);
+        let new = [([0.9e-3, 0.0, 0.0], 1.0), ([0.3e-3, 0.0, 0.0], 1.0)];
+        assert_eq!(
+            taken(&old, &new, r),
+            [1.0, 2.0],
+            "1 is nearer, 0 within reach"
+        );
+        // Two parts at one place (rounding apart): the weights decide.
+        let old = [
+            entry(0, [0.0, 0.0, 0.0], 0.999, 1.0),
+            entry(1, [1e-18, 0.0, 0.0], 0.001, 2.0),
+        ];
+        let new = [([0.0, 0.0, 0.0], 0.002), ([1e-18, 0.0, 0.0], 0.998)];
+        assert_eq!(taken(&old, &new, r), [2.0, 1.0]);
+        // A tie goes to the lower old index, then the lower new one.
+        let old = [
+            entry(0, [0.0, 0.0, 0.0], 1.0, 1.0),
+            entry(1, [0.0, 0.0, 0.0], 1.0, 2.0),
+        ];
+        assert_eq!(taken(&old, &[([0.0, 0.0, 0.0], 1.0)], r), [1.0]);
+        let new = [([0.0, 0.0, 0.0], 1.0), ([0.0, 0.0, 0.0], 1.0)];
+        assert_eq!(taken(&old[..1], &new, r), [1.0, 0.0]);
+        // Records without a place: each to the point of its own rank.
+        let nan = [f64::NAN; 3];
+        let old = [entry(0, nan, f64::NAN, 1.0), entry(2, nan, f64::NAN, 3.0)];
+        let new = [([9.0, 0.0, 0.0], 1.0); 2];
+        assert_eq!(taken(&old, &new, r), [1.0, 0.0]);
+        assert_eq!(taken(&old[..1], &new[..1], r), [1.0]);
     }
 }

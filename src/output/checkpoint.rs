@@ -39,9 +39,15 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// The format this version writes and reads.
-pub const FORMAT: &str = "fibresim-checkpoint-6";
+pub const FORMAT: &str = "fibresim-checkpoint-7";
 
-/// The previous format, still read: the same files without the contacts'
+/// The previous format, still read: the same files but for the contacts'
+/// records, which hold the spring without its point's place (a body
+/// pair's record then goes to the point of its own rank once, as that
+/// format's runs matched them; `contact/history.rs`).
+pub const FORMAT_WITHOUT_PLACES: &str = "fibresim-checkpoint-6";
+
+/// The format before, still read: the same files without the contacts'
 /// records, which only a frictional scene needs (refused there).
 pub const FORMAT_WITHOUT_RECORDS: &str = "fibresim-checkpoint-5";
 
@@ -223,9 +229,10 @@ fn unbits_all(v: &[String], what: &str) -> Result<Vec<f64>> {
 /// three `u16` of [`PairMemory::to_raw`]; frictional scenes last add the
 /// touching contacts' records ([`History::encode`](crate::contact::history::History):
 /// walls, then pairs, each a `u64` count and per contact `u32` a, `u32` b,
-/// `u8` slot and the spring's three `f64`). 112 bytes per fibre for the
-/// shipped rotators (160 damped or frictional), 14 per remembered pair, 33
-/// per touching frictional contact; floats are their exact bits.
+/// `u8` slot, the spring's three `f64` and its point's place, three `f64`).
+/// 112 bytes per fibre for the shipped rotators (160 damped or
+/// frictional), 14 per remembered pair, 57 per touching frictional
+/// contact; floats are their exact bits.
 pub mod states {
     use crate::body::{BodyState, RotState};
     use crate::contact::fibre_fibre::PairMemory;
@@ -307,12 +314,12 @@ pub mod states {
 
     /// The ids, states, rotator state, (when `with_loads`: a damped or
     /// frictional scene's) loads, pair memories and (when `with_history`:
-    /// a frictional scene's, for `walls` walls) contacts' records of a
-    /// file's bytes, or what is wrong.
+    /// a frictional scene's, for `walls` walls, with or without their
+    /// places) contacts' records of a file's bytes, or what is wrong.
     pub(crate) fn decode(
         b: &[u8],
         with_loads: bool,
-        with_history: Option<usize>,
+        with_history: Option<(usize, bool)>,
     ) -> Result<Decoded, String> {
         let word = |at: usize| -> Result<u64, String> {
             b.get(at..at + 8)
@@ -332,9 +339,9 @@ pub mod states {
         let remembered = word(before_memory)? as usize;
         let after_memory = before_memory.saturating_add(8 + remembered.saturating_mul(14));
         let (history, want) = match with_history {
-            Some(walls) => {
+            Some((walls, places)) => {
                 let tail = b.get(after_memory..).ok_or("the file is truncated")?;
-                let (h, used) = History::decode(tail, n, walls)?;
+                let (h, used) = History::decode(tail, n, walls, places)?;
                 (h, after_memory + used)
             }
             None => (History::default(), after_memory),
@@ -496,7 +503,8 @@ impl Checkpoint {
         let format = serde_json::from_str::<serde_json::Value>(&text)
             .ok()
             .and_then(|v| v.get("format").and_then(|f| f.as_str()).map(str::to_string));
-        if let Some(f) = format.filter(|f| f != FORMAT && f != FORMAT_WITHOUT_RECORDS) {
+        let known = [FORMAT, FORMAT_WITHOUT_PLACES, FORMAT_WITHOUT_RECORDS];
+        if let Some(f) = format.as_ref().filter(|f| !known.contains(&f.as_str())) {
             return Err(Error::bad(
                 &file,
                 "format",
@@ -540,8 +548,9 @@ impl Checkpoint {
         }
         // Records of a frictional scene (in a box of six walls, or none).
         let records = c.damping.as_ref().is_some_and(|d| d.friction.is_some());
+        let places = format.as_deref() != Some(FORMAT_WITHOUT_PLACES);
         (c.ids, c.states, c.aux, c.loads, c.memory, c.history) =
-            states::decode(&bytes, c.damping.is_some(), records.then_some(6))
+            states::decode(&bytes, c.damping.is_some(), records.then_some((6, places)))
                 .map_err(|e| Error::bad(&where_, "states_file", e))?;
         Ok(c)
     }

@@ -8,11 +8,12 @@
 //! every rank keeps those of contacts that touch a body it now owns. At a
 //! checkpoint rank 0 gathers them all.
 
-use crate::contact::history::{record_from_raw, record_to_raw, ContactKey, History};
+use crate::contact::history::{record_from_raw, record_to_raw, ContactKey, History, RAW};
 
 /// Doubles of one record on the wire: the key (`a`, `b` in one `f64`'s
-/// bits, the slot in another's), then the record's numbers.
-const WIRE: usize = 5;
+/// bits, the slot in another's), then the record's numbers (its spring
+/// and its point's place).
+const WIRE: usize = 2 + RAW;
 
 /// The entries of `h` that `mine` accepts (walls, then pairs) as wire
 /// doubles: the counts of walls and of pairs, then each entry.
@@ -49,7 +50,8 @@ pub(super) fn decode(wire: &[f64]) -> History {
                 b: ab as u32,
                 slot: slot as u8,
             };
-            let entry = (key, record_from_raw([d[2], d[3], d[4]]));
+            let raw = d[2..].try_into().expect("a record's numbers");
+            let entry = (key, record_from_raw(raw));
             if k < walls {
                 h.walls.push(entry);
             } else {
@@ -75,6 +77,7 @@ mod tests {
         let key = |a, b, slot| ContactKey { a, b, slot };
         let rec = |x: f64| Record {
             xi: DVec3::new(x, -0.0, f64::MIN_POSITIVE),
+            place: DVec3::new(-x, 1e-300, f64::from_bits(x.to_bits() ^ 1)),
         };
         let h = History {
             walls: vec![(key(1, 5, 1), rec(1e-7)), (key(4, 0, 0), rec(-3e-9))],
@@ -90,5 +93,6 @@ mod tests {
         let back = decode(&[r1, r0].concat());
         assert_eq!(back, h);
         assert_eq!(back.walls[0].1.xi.y.to_bits(), (-0.0f64).to_bits());
+        assert_eq!(back.pairs[1].1.place.z.to_bits(), 5f64.to_bits() ^ 1);
     }
 }

@@ -648,8 +648,8 @@ fn frictional_bed(contact: &str) -> String {
 /// rows, the trajectory, the summary (but its timings) and the final
 /// states file (states, loads, pair memories and springs, written by both
 /// runs at step 600) are the bytes of the run straight to 600. The springs
-/// are what the checkpoint adds: 33 bytes per touching contact after the
-/// pair memories.
+/// are what the checkpoint adds: 65 bytes per touching contact after the
+/// pair memories (key, spring, place and weight).
 #[test]
 fn resume_of_a_frictional_mixed_bed_gives_the_same_bytes() {
     for contact in [
@@ -673,7 +673,7 @@ fn resume_of_a_frictional_mixed_bed_gives_the_same_bytes() {
         run_checkpointed(scene, &whole, "6e-4", "300", &t);
         let ckpt = run_checkpointed(scene, &split, "3e-4", "300", &t);
         let c: serde_json::Value = serde_json::from_slice(&read_bytes(&ckpt)).unwrap();
-        assert_eq!(c["format"], "fibresim-checkpoint-6");
+        assert_eq!(c["format"], "fibresim-checkpoint-7");
         assert!(c["damping"]["friction"].is_array(), "{contact}");
         // The springs: after the 24 B header, 160 B per body (states and
         // loads) and the pair memories, the wall and pair records.
@@ -681,9 +681,9 @@ fn resume_of_a_frictional_mixed_bed_gives_the_same_bytes() {
         let word = |at: usize| u64::from_le_bytes(states[at..at + 8].try_into().unwrap()) as usize;
         assert_eq!(word(8), 384, "bodies");
         let walls_at = springs_at(&states);
-        let (walls, pairs_at) = (word(walls_at), walls_at + 8 + 33 * word(walls_at));
+        let (walls, pairs_at) = (word(walls_at), walls_at + 8 + ENTRY * word(walls_at));
         let pairs = word(pairs_at);
-        assert_eq!(states.len(), pairs_at + 8 + 33 * pairs);
+        assert_eq!(states.len(), pairs_at + 8 + ENTRY * pairs);
         assert!(
             walls > 20 && pairs > 80,
             "{walls} wall and {pairs} pair springs"
@@ -706,7 +706,70 @@ fn resume_of_a_frictional_mixed_bed_gives_the_same_bytes() {
     }
 }
 
-/// A checkpoint of the previous format (no springs) still resumes a
+/// Bytes of a contact's record in a states file: `u32` a, `u32` b, `u8`
+/// slot, the spring's three `f64`, the place's three and the weight.
+const ENTRY: usize = 9 + 8 * 7;
+
+/// A checkpoint of the format before places (`fibresim-checkpoint-6`: a
+/// record is its key and its spring) still resumes a frictional run: its
+/// records go to the points of their own ranks at the first computation,
+/// as that format's runs matched them, and by place from then on. The
+/// frictional mixed bed of the test above, checkpointed at step 300 and
+/// rewritten into that format, resumes to 600; in that bed every touching
+/// pair's points keep their ranks between two steps, so the bytes are the
+/// run's straight through (energy rows, trajectory, final states file).
+#[test]
+fn a_checkpoint_without_places_resumes_a_frictional_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("bed.toml");
+    std::fs::write(
+        &scene,
+        frictional_bed(
+            "friction = 0.4
+wall_friction = 0.3
+",
+        ),
+    )
+    .unwrap();
+    let scene = scene.to_str().unwrap();
+    let (whole, split) = (dir.path().join("w"), dir.path().join("s"));
+    let t = ["-q", "--every", "20", "--trajectory-every", "100"];
+    run_checkpointed(scene, &whole, "6e-4", "300", &t);
+    let ckpt = run_checkpointed(scene, &split, "3e-4", "300", &t);
+    let mut c: serde_json::Value = serde_json::from_slice(&read_bytes(&ckpt)).unwrap();
+    c["format"] = "fibresim-checkpoint-6".into();
+    let states = states_file(&split);
+    let bytes = read_bytes(&states);
+    let word = |at: usize| u64::from_le_bytes(bytes[at..at + 8].try_into().unwrap()) as usize;
+    // Each record cut to its key and spring (33 bytes).
+    let mut at = springs_at(&bytes);
+    let mut old = bytes[..at].to_vec();
+    for _ in 0..2 {
+        let count = word(at);
+        old.extend_from_slice(&bytes[at..at + 8]);
+        at += 8;
+        for _ in 0..count {
+            old.extend_from_slice(&bytes[at..at + 33]);
+            at += ENTRY;
+        }
+    }
+    assert_eq!(at, bytes.len());
+    assert!(old.len() < bytes.len());
+    std::fs::write(&states, &old).unwrap();
+    c["states_bytes"] = old.len().into();
+    c["states_fnv"] = format!("{:016x}", fnv(&old)).into();
+    std::fs::write(&ckpt, serde_json::to_string_pretty(&c).unwrap()).unwrap();
+    resume_to(&ckpt, "6e-4", &["--checkpoint-every", "300"]);
+    for f in ["energy.csv", "trajectory.csv", "checkpoint.600.states"] {
+        assert!(
+            read_bytes(&whole.join(f)) == read_bytes(&split.join(f)),
+            "{f} differs"
+        );
+    }
+}
+
+/// A checkpoint of the format before records (`fibresim-checkpoint-5`, no
+/// springs) still resumes a
 /// frictionless run, and is refused for a frictional one (exit 2, naming
 /// friction and the fix) before anything runs.
 #[test]

@@ -114,11 +114,16 @@ pub(crate) struct PointLoad {
 
 /// What the law keeps of one contact point between steps, carried by the
 /// contact's identity (`contact/history.rs`): friction's tangential
-/// spring. A frictionless scene keeps none.
+/// spring, and where its point was. A frictionless scene keeps none.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(crate) struct Record {
     /// The tangential spring ξ, m (`tangential.rs`).
     pub xi: DVec3,
+    /// The point at this record's computation relative to body A's
+    /// centre, `p − x_A` (world), m, and its weight: what a body pair's
+    /// next points are matched by (`history::recall_by_place`).
+    pub place: DVec3,
+    pub weight: f64,
 }
 
 /// One side of a candidate: a body by index, with its centre (a wall
@@ -316,6 +321,7 @@ impl<F: Keeping> CandidateLaw<'_, F> {
                 record.xi = DVec3::ZERO;
                 DVec3::ZERO
             };
+            (record.place, record.weight) = (c.point - ca, c.weight);
             let couple = Some(-u * c.weight_grad);
             return PointLoad {
                 total: Wrench::at(f_n * c.normal + f_t, c.point, couple, ca, cb),
