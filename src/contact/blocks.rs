@@ -28,7 +28,8 @@
 use super::broad::NeighbourList;
 use super::fibre_fibre::PairMemory;
 use super::history::{
-    pair_records, recall, recall_by_place, sorted, ContactKey, Entry, History, Recalled,
+    pair_records, recall, recall_by_place, recall_one_by_place, sorted, ContactKey, Entry, History,
+    Recalled,
 };
 use super::law::{CandidateLaw, Keeping, Laws, PointLoad, Record, Side, Wrench};
 use super::shape::{collider, ColliderKind};
@@ -404,6 +405,12 @@ trait Candidates<'l>: Sync {
             out.push(recall(self.recorded(), cursor, &self.key(c, s, p)));
         }
     }
+
+    /// [`Candidates::recall`] of a candidate with one point `p`.
+    #[inline(always)]
+    fn recall_one(&self, c: &Self::Candidate, p: &ContactPoint, cursor: &mut usize) -> Record {
+        recall(self.recorded(), cursor, &self.key(c, 0, p))
+    }
 }
 
 /// What both lists read: the bodies' geometry records and collider kinds,
@@ -573,10 +580,26 @@ impl<'l, K: PairKernel, F: Keeping> Candidates<'l> for PairList<'_, 'l, K, F> {
         out: &mut Recalled,
     ) {
         let old = pair_records(self.recorded, cursor, (a, b));
-        let (ga, gb) = (&self.scene.geoms[a as usize], &self.scene.geoms[b as usize]);
-        let reach = 0.5 * ga.radius.min(gb.radius);
-        let places = points.iter().map(|p| (p.point - ga.centre, p.weight));
+        let (centre, reach) = self.reach(a, b);
+        let places = points.iter().map(|p| (p.point - centre, p.weight));
         recall_by_place(old, places, reach, out);
+    }
+
+    #[inline(always)]
+    fn recall_one(&self, &(a, b): &(u32, u32), p: &ContactPoint, cursor: &mut usize) -> Record {
+        let old = pair_records(self.recorded, cursor, (a, b));
+        let (centre, reach) = self.reach(a, b);
+        recall_one_by_place(old, (p.point - centre, p.weight), reach)
+    }
+}
+
+impl<K, F> PairList<'_, '_, K, F> {
+    /// Body A's centre (places are taken from it) and the reach of the
+    /// pair's records: half the smaller radius.
+    #[inline(always)]
+    fn reach(&self, a: u32, b: u32) -> (DVec3, f64) {
+        let (ga, gb) = (&self.scene.geoms[a as usize], &self.scene.geoms[b as usize]);
+        (ga.centre, 0.5 * ga.radius.min(gb.radius))
     }
 }
 
@@ -602,7 +625,13 @@ fn each_candidate<'l, C: Candidates<'l>>(
         list.eval(c, m, buf, counters);
         if !buf.is_empty() {
             let t = list.touching(c);
-            if t.law.keeps_history() {
+            if let ([p], true) = (&buf[..], t.law.keeps_history()) {
+                // One point (most contacts): its record without gathering.
+                let mut record = list.recall_one(c, p, &mut cursor);
+                let load = t.law.load(p, &mut record);
+                sink.point(&load, p.overlap, t.a, t.b);
+                sink.keep((list.key(c, 0, p), record), load.spring);
+            } else if t.law.keeps_history() {
                 records.clear();
                 list.recall(c, buf, &mut cursor, &mut records);
                 for (s, (p, record)) in buf.iter().zip(&mut records).enumerate() {

@@ -110,7 +110,7 @@ pub(crate) fn pair_records<'s>(
 /// rest. A record without a place (read from a checkpoint that had none)
 /// is at distance 0 from the new point of its own rank, and out of reach
 /// of the others. One record and one point (a single contact) take one
-/// distance.
+/// distance ([`recall_one_by_place`]).
 #[inline]
 pub(crate) fn recall_by_place(
     old: &[Entry],
@@ -121,24 +121,7 @@ pub(crate) fn recall_by_place(
     let n = points.len();
     let start = out.len();
     out.extend(std::iter::repeat_n(Record::default(), n));
-    // Squared distances, against the squared reach.
-    let distance = |(k, r): &Entry, j: usize, (p, w): (DVec3, f64)| {
-        if r.place.is_finite() {
-            r.place.distance_squared(p) + (reach * (r.weight - w)).powi(2)
-        } else if usize::from(k.slot) == j {
-            0.0
-        } else {
-            f64::INFINITY
-        }
-    };
     let reach2 = reach * reach;
-    if let ([e], 1) = (old, n) {
-        let p = points.clone().next().expect("one point");
-        if distance(e, 0, p) <= reach2 {
-            out[start] = e.1;
-        }
-        return;
-    }
     // Greedy by distance over the pair's few points (a kernel gives a
     // handful): `MASK` bits of each side; points beyond start from rest.
     const MASK: usize = 64;
@@ -153,7 +136,7 @@ pub(crate) fn recall_by_place(
                 if new_left & (1 << j) == 0 {
                     continue;
                 }
-                let d = distance(e, j, p);
+                let d = distance2(e, j, p, reach);
                 if d <= reach2 && best.is_none_or(|(b, _, _)| d < b) {
                     best = Some((d, i, j));
                 }
@@ -163,6 +146,42 @@ pub(crate) fn recall_by_place(
         out[start + j] = old[i].1;
         old_left &= !(1 << i);
         new_left &= !(1 << j);
+    }
+}
+
+/// [`recall_by_place`] for a pair with one new point at `point` (place,
+/// weight): the common case, without gathering.
+#[inline(always)]
+pub(crate) fn recall_one_by_place(old: &[Entry], point: (DVec3, f64), reach: f64) -> Record {
+    match old {
+        [] => Record::default(),
+        [e] => {
+            if distance2(e, 0, point, reach) <= reach * reach {
+                e.1
+            } else {
+                Record::default()
+            }
+        }
+        _ => {
+            let mut out = Recalled::new();
+            recall_by_place(old, std::iter::once(point), reach, &mut out);
+            out[0]
+        }
+    }
+}
+
+/// The squared distance of record `e` to the new point of rank `j` at
+/// `(p, w)` (place, weight) for [`recall_by_place`] and its reach `reach`.
+#[inline(always)]
+fn distance2((k, r): &Entry, j: usize, (p, w): (DVec3, f64), reach: f64) -> f64 {
+    let d = r.place.distance_squared(p) + (reach * (r.weight - w)).powi(2);
+    // A record without a place (NaN) reads as at its own rank.
+    if !d.is_nan() {
+        d
+    } else if usize::from(k.slot) == j {
+        0.0
+    } else {
+        f64::INFINITY
     }
 }
 

@@ -20,9 +20,11 @@
 //! the ledger of the non-conservative loads (`done`, `dissipated`: two
 //! numbers in the JSON, with the restitution and the friction the run
 //! used). A frictional scene also stores each touching contact's record
-//! (its tangential spring, `contact/history.rs`) in the states file. A
-//! frictionless checkpoint has no record section: its files are those of
-//! the previous format but for the format's name, which is still read.
+//! (its tangential spring, its point's place and weight,
+//! `contact/history.rs`) in the states file. A frictionless checkpoint
+//! has no record section: its files are those of the two previous formats
+//! but for the format's name, and both are still read; a frictional one
+//! resumes from the previous format, whose records have no place.
 
 use crate::body::BodyState;
 use crate::contact::history::History;
