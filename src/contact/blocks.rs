@@ -568,9 +568,7 @@ impl<'l, K: PairKernel, F: Keeping> Candidates<'l> for PairList<'_, 'l, K, F> {
         self.recorded
     }
 
-    /// By place (`history::recall_by_place`), within half the smaller
-    /// radius: a split contact's halves (A's radius from their centre)
-    /// are never taken for one another or for the point they split from.
+    /// By place (`history::recall_by_place`), within [`PairList::reach`].
     #[inline(always)]
     fn recall(
         &self,
@@ -595,11 +593,12 @@ impl<'l, K: PairKernel, F: Keeping> Candidates<'l> for PairList<'_, 'l, K, F> {
 
 impl<K, F> PairList<'_, '_, K, F> {
     /// Body A's centre (places are taken from it) and the reach of the
-    /// pair's records: half the smaller radius.
+    /// pair's records: 1.5 times the smaller radius (docs/contacts.md,
+    /// "Identity and history": beyond a split wrench's lever, within two).
     #[inline(always)]
     fn reach(&self, a: u32, b: u32) -> (DVec3, f64) {
         let (ga, gb) = (&self.scene.geoms[a as usize], &self.scene.geoms[b as usize]);
-        (ga.centre, 0.5 * ga.radius.min(gb.radius))
+        (ga.centre, 1.5 * ga.radius.min(gb.radius))
     }
 }
 

@@ -13,11 +13,11 @@
 //!
 //! How a point finds its record (docs/contacts.md, "Friction"): against a
 //! wall by its slot, a fibre's end (0 or 1), a sphere's 0 ([`recall`]); a
-//! body pair's points by place ([`recall_by_place`]): each takes the old
-//! record of the same pair that was nearest, one to one, nearest first,
-//! within a reach, as Bullet's persistent manifold matches a new point to
-//! its cached ones (`btPersistentManifold::getCacheEntry`, its contact
-//! breaking threshold). The kernels' output changes shape (parts appear
+//! body pair's points by place ([`recall_by_place`]): they take the old
+//! records of the same pair one to one, nearest first, within a reach, as
+//! Bullet's persistent manifold matches a new point to its cached ones
+//! (`btPersistentManifold::getCacheEntry`, its contact breaking
+//! threshold); a point left over copies the nearest record within reach. The kernels' output changes shape (parts appear
 //! and vanish as their weights reach 0), so a point's rank in it is no
 //! identity; its place is. A pair's slot is then only the point's rank,
 //! which keeps the store sorted and its keys unique.
@@ -106,8 +106,9 @@ pub(crate) fn pair_records<'s>(
 /// differ by rounding only. One to one, nearest first: of all old–new
 /// distances, the smallest is taken first (ties to the lower old index,
 /// then the lower new one), and so on while both sides have one left and
-/// the distance is at most `reach`; a point left without one starts from
-/// rest. A record without a place (read from a checkpoint that had none)
+/// the distance is at most `reach`; a point left over then takes a copy of
+/// the nearest record within reach (taken or not), and one with none
+/// within reach starts from rest. A record without a place (read from a checkpoint that had none)
 /// is at distance 0 from the new point of its own rank, and out of reach
 /// of the others. One record and one point (a single contact) take one
 /// distance ([`recall_one_by_place`]).
@@ -146,6 +147,26 @@ pub(crate) fn recall_by_place(
         out[start + j] = old[i].1;
         old_left &= !(1 << i);
         new_left &= !(1 << j);
+    }
+    // A point left over takes a copy of the nearest record within reach,
+    // taken or not: it is more of a contact patch already touching (a part
+    // come in beside another, a split's second half).
+    if new_left != 0 && !old.is_empty() {
+        for (j, p) in points.enumerate().take(MASK) {
+            if new_left & (1 << j) == 0 {
+                continue;
+            }
+            let mut best: Option<(f64, usize)> = None;
+            for (i, e) in old.iter().enumerate() {
+                let d = distance2(e, j, p, reach);
+                if d <= reach2 && best.is_none_or(|(b, _)| d < b) {
+                    best = Some((d, i));
+                }
+            }
+            if let Some((_, i)) = best {
+                out[start + j] = old[i].1;
+            }
+        }
     }
 }
 
@@ -483,8 +504,13 @@ mod tests {
             entry(1, [0.0, 0.0, 0.0], 1.0, 2.0),
         ];
         assert_eq!(taken(&old, &[([0.0, 0.0, 0.0], 1.0)], r), [1.0]);
-        let new = [([0.0, 0.0, 0.0], 1.0), ([0.0, 0.0, 0.0], 1.0)];
-        assert_eq!(taken(&old[..1], &new, r), [1.0, 0.0]);
+        // A point left over copies the nearest record within reach.
+        let new = [
+            ([0.0, 0.0, 0.0], 1.0),
+            ([0.5e-3, 0.0, 0.0], 1.0),
+            ([2e-3, 0.0, 0.0], 1.0),
+        ];
+        assert_eq!(taken(&old[..1], &new, r), [1.0, 1.0, 0.0]);
         // Records without a place: each to the point of its own rank.
         let nan = [f64::NAN; 3];
         let old = [entry(0, nan, f64::NAN, 1.0), entry(2, nan, f64::NAN, 3.0)];
