@@ -1164,7 +1164,6 @@ fn the_shipped_friction_scenes_show_their_closed_forms() {
 /// from rest, to 81 % at 0.17 m/s where the crossing splits.
 #[test]
 fn a_parallel_pair_turned_through_the_band_keeps_its_sliding_force() {
-    use glam::{DQuat, DVec3};
     let (d, l, mu, dt) = (0.01, 0.03, 0.3, 1e-6);
     let text = format!(
         "[simulation]\ndt = {dt}\nt_end = 0.001\n[contact]\nfriction = {mu}\n[material.m]\ndensity = 1100.0\nyoung = 5e7\npoisson = 0.35\n[[body]]\nshape = \"fibre\"\nmaterial = \"m\"\ndiameter = {d}\nlength = {l}\nposition = [0.0, 0.0, 0.00998]\naxis = [1.0, 0.0, 0.0]\n[[body]]\nshape = \"fibre\"\nmaterial = \"m\"\ndiameter = {d}\nlength = {l}\nposition = [0.0, 0.0, 0.0]\naxis = [1.0, 0.0, 0.0]\n[guards]\nstart_overlap_ratio = 0.01\n"
