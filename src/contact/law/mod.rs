@@ -120,9 +120,10 @@ pub(crate) struct Record {
     /// The tangential spring ξ, m (`tangential.rs`).
     pub xi: DVec3,
     /// The point at this record's computation relative to body A's
-    /// centre, `p − x_A` (world), m, and its weight: what a body pair's
-    /// next points are matched by (`history::recall_by_place`).
+    /// centre, `p − x_A` (world), m: what a body pair's next points are
+    /// matched by, with the weight (`history::recall_by_place`).
     pub place: DVec3,
+    /// The point's weight at this record's computation.
     pub weight: f64,
 }
 
