@@ -78,6 +78,7 @@ mod tests {
         let rec = |x: f64| Record {
             xi: DVec3::new(x, -0.0, f64::MIN_POSITIVE),
             place: DVec3::new(-x, 1e-300, f64::from_bits(x.to_bits() ^ 1)),
+            weight: 0.25 - x,
         };
         let h = History {
             walls: vec![(key(1, 5, 1), rec(1e-7)), (key(4, 0, 0), rec(-3e-9))],
@@ -94,5 +95,6 @@ mod tests {
         assert_eq!(back, h);
         assert_eq!(back.walls[0].1.xi.y.to_bits(), (-0.0f64).to_bits());
         assert_eq!(back.pairs[1].1.place.z.to_bits(), 5f64.to_bits() ^ 1);
+        assert_eq!(back.pairs[1].1.weight, -4.75);
     }
 }
