@@ -26,6 +26,7 @@
 //! without the history's lookups and writes.
 
 use super::broad::NeighbourList;
+use super::dispatch::sphere_pair;
 use super::fibre_fibre::PairMemory;
 use super::history::{
     pair_records, recall, recall_by_place, recall_one_by_place, sorted, ContactKey, Entry, History,
@@ -34,7 +35,7 @@ use super::history::{
 use super::law::{CandidateLaw, Keeping, Laws, PointLoad, Record, Side, Wrench};
 use super::shape::{collider, ColliderKind};
 use super::stage::ContactStats;
-use super::{contacts, Collider, ContactPoint, FibreGeom, KernelCounters, Wall};
+use super::{contacts, Collider, ContactPoint, FibreGeom, KernelCounters, SphereGeom, Wall};
 use glam::DVec3;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Mutex, MutexGuard, PoisonError};
@@ -92,6 +93,33 @@ impl PairKernel for Computed {
     ) {
         super::contacts_remembering(a, b, out, counters, Some((memory, motion)));
     }
+}
+
+/// Which collider kinds the loop meets, chosen once per computation (as
+/// [`Keeping`] is): [`AnyKinds`] reads each body's kind and lets the
+/// dispatch find the pair's kernel; [`Spheres`], a scene of spheres only,
+/// sends every pair to the sphere–sphere kernel, and every contact of such
+/// a scene is central (the law's normal loads have no moment), so its
+/// loop is compiled without the kind lookups and the normal torques.
+pub(crate) trait Kinds: Copy + Send + Sync + 'static {
+    /// Every body is a sphere.
+    const SPHERES: bool;
+}
+
+/// Any mix of collider kinds.
+#[derive(Clone, Copy)]
+pub(crate) struct AnyKinds;
+
+impl Kinds for AnyKinds {
+    const SPHERES: bool = false;
+}
+
+/// Spheres only.
+#[derive(Clone, Copy)]
+pub(crate) struct Spheres;
+
+impl Kinds for Spheres {
+    const SPHERES: bool = true;
 }
 
 /// Candidates per block: the fixed partition of a candidate list into the
@@ -237,8 +265,16 @@ fn trim<T>(v: &mut Vec<T>, len: usize) {
 /// the bodies' sums themselves (the same additions in the same order).
 trait Sink {
     /// The loads `load` of a point of overlap `overlap` between body A
-    /// (`(index, diameter)`) and body B (none for a wall).
-    fn point(&mut self, load: &PointLoad, overlap: f64, a: (usize, f64), b: Option<(usize, f64)>);
+    /// (`(index, diameter)`) and body B (none for a wall); its torques
+    /// too, unless `torques` is false ([`torques`]).
+    fn point(
+        &mut self,
+        load: &PointLoad,
+        overlap: f64,
+        a: (usize, f64),
+        b: Option<(usize, f64)>,
+        torques: bool,
+    );
     /// Candidate `k` of the block touched: its points are in.
     fn touched(&mut self, k: usize);
     /// A touching contact's record after its computation, and the energy
@@ -255,6 +291,7 @@ impl Sink for Block {
         overlap: f64,
         (a, d_a): (usize, f64),
         b: Option<(usize, f64)>,
+        _: bool,
     ) {
         if let Some(w) = load.dissipative {
             self.dissipative.push(w);
@@ -367,6 +404,9 @@ trait Candidates<'l>: Sync {
     type Memory: Send;
     /// Whether its laws keep a record per contact.
     type Keeping: Keeping;
+    /// Whether every contact of the list is central: its normal lines
+    /// pass through both centres ([`torques`]).
+    const CENTRAL: bool;
 
     /// Candidate `c` with its memory `m` through the kernels into `buf`
     /// (counted in `counters`): it touches if `buf` is not empty.
@@ -413,20 +453,35 @@ trait Candidates<'l>: Sync {
     }
 }
 
-/// What both lists read: the bodies' geometry records and collider kinds,
-/// and the laws.
+/// What both lists read: the bodies' geometry records and collider kinds
+/// (all spheres if `S` says so), and the laws.
 #[derive(Clone, Copy)]
-struct Scene<'a, 'l, F> {
+struct Scene<'a, 'l, F, S> {
     geoms: &'a [FibreGeom],
     kinds: &'a [ColliderKind],
     laws: &'a Laws<'l, F>,
+    shapes: std::marker::PhantomData<S>,
 }
 
-impl<'l, F: Keeping> Scene<'_, 'l, F> {
+impl<'l, F: Keeping, S: Kinds> Scene<'_, 'l, F, S> {
     /// Body `i`'s collider.
     #[inline(always)]
     fn collider(&self, i: usize) -> Collider<'_> {
-        collider(self.kinds[i], &self.geoms[i])
+        if S::SPHERES {
+            Collider::Sphere(self.sphere(i))
+        } else {
+            collider(self.kinds[i], &self.geoms[i])
+        }
+    }
+
+    /// Body `i` as a sphere (`S::SPHERES`).
+    #[inline(always)]
+    fn sphere(&self, i: usize) -> SphereGeom {
+        let g = &self.geoms[i];
+        SphereGeom {
+            centre: g.centre,
+            radius: g.radius,
+        }
     }
 
     /// Body `i` as a side of a candidate.
@@ -447,17 +502,19 @@ impl<'l, F: Keeping> Scene<'_, 'l, F> {
 
 /// The wall candidates `(body, wall)` of a box, and their contacts'
 /// records of the last computation.
-struct WallList<'a, 'l, F> {
-    scene: Scene<'a, 'l, F>,
+struct WallList<'a, 'l, F, S> {
+    scene: Scene<'a, 'l, F, S>,
     walls: &'a [Wall],
     recorded: &'a [Entry],
 }
 
-impl<'l, F: Keeping> Candidates<'l> for WallList<'_, 'l, F> {
+impl<'l, F: Keeping, S: Kinds> Candidates<'l> for WallList<'_, 'l, F, S> {
     type Candidate = (u32, u32);
     /// Walls remember nothing (a zero-sized entry each).
     type Memory = ();
     type Keeping = F;
+    /// A sphere's wall contact is central.
+    const CENTRAL: bool = S::SPHERES;
 
     #[inline(always)]
     fn eval(
@@ -490,7 +547,12 @@ impl<'l, F: Keeping> Candidates<'l> for WallList<'_, 'l, F> {
     #[inline(always)]
     fn key(&self, &(i, w): &(u32, u32), _: usize, p: &ContactPoint) -> ContactKey {
         let g = &self.scene.geoms[i as usize];
-        let end = match self.scene.kinds[i as usize] {
+        let kind = if S::SPHERES {
+            ColliderKind::Sphere
+        } else {
+            self.scene.kinds[i as usize]
+        };
+        let end = match kind {
             ColliderKind::Fibre => u8::from((p.point - g.centre).dot(g.axis) > 0.0),
             ColliderKind::Sphere => 0,
         };
@@ -508,8 +570,8 @@ impl<'l, F: Keeping> Candidates<'l> for WallList<'_, 'l, F> {
 
 /// The body pair candidates `(i, j)`, with their memories, whose
 /// contacts `kernel` gives.
-struct PairList<'a, 'l, K, F> {
-    scene: Scene<'a, 'l, F>,
+struct PairList<'a, 'l, K, F, S> {
+    scene: Scene<'a, 'l, F, S>,
     /// Each body's motion bound since the last computation.
     motion: &'a [f32],
     kernel: &'a K,
@@ -517,10 +579,12 @@ struct PairList<'a, 'l, K, F> {
     recorded: &'a [Entry],
 }
 
-impl<'l, K: PairKernel, F: Keeping> Candidates<'l> for PairList<'_, 'l, K, F> {
+impl<'l, K: PairKernel, F: Keeping, S: Kinds> Candidates<'l> for PairList<'_, 'l, K, F, S> {
     type Candidate = (u32, u32);
     type Memory = PairMemory;
     type Keeping = F;
+    /// Sphere pairs' contacts are central.
+    const CENTRAL: bool = S::SPHERES;
 
     #[inline(always)]
     fn eval(
@@ -531,6 +595,11 @@ impl<'l, K: PairKernel, F: Keeping> Candidates<'l> for PairList<'_, 'l, K, F> {
         counters: &mut KernelCounters,
     ) {
         let (a, b) = (a as usize, b as usize);
+        if S::SPHERES && !K::ONE_THREAD {
+            // The dispatch's sphere–sphere arm, decided for the whole list
+            // (a replay still answers every pair itself).
+            return sphere_pair(&self.scene.sphere(a), &self.scene.sphere(b), buf);
+        }
         let motion = f64::from(self.motion[a]) + f64::from(self.motion[b]);
         let (ca, cb) = (self.scene.collider(a), self.scene.collider(b));
         self.kernel.contacts(ca, cb, buf, counters, memory, motion);
@@ -591,7 +660,7 @@ impl<'l, K: PairKernel, F: Keeping> Candidates<'l> for PairList<'_, 'l, K, F> {
     }
 }
 
-impl<K, F> PairList<'_, '_, K, F> {
+impl<K, F, S> PairList<'_, '_, K, F, S> {
     /// Body A's centre (places are taken from it) and the reach of the
     /// pair's records: 1.5 times the smaller radius (docs/contacts.md,
     /// "Identity and history": beyond a split wrench's lever, within two).
@@ -628,25 +697,35 @@ fn each_candidate<'l, C: Candidates<'l>>(
                 // One point (most contacts): its record without gathering.
                 let mut record = list.recall_one(c, p, &mut cursor);
                 let load = t.law.load(p, &mut record);
-                sink.point(&load, p.overlap, t.a, t.b);
+                sink.point(&load, p.overlap, t.a, t.b, true);
                 sink.keep((list.key(c, 0, p), record), load.spring);
             } else if t.law.keeps_history() {
                 records.clear();
                 list.recall(c, buf, &mut cursor, &mut records);
                 for (s, (p, record)) in buf.iter().zip(&mut records).enumerate() {
                     let load = t.law.load(p, record);
-                    sink.point(&load, p.overlap, t.a, t.b);
+                    sink.point(&load, p.overlap, t.a, t.b, true);
                     sink.keep((list.key(c, s, p), *record), load.spring);
                 }
             } else {
                 for p in buf.iter() {
                     let load = t.law.load(p, &mut Record::default());
-                    sink.point(&load, p.overlap, t.a, t.b);
+                    sink.point(&load, p.overlap, t.a, t.b, torques::<C>());
                 }
             }
             sink.touched(k);
         }
     }
+}
+
+/// Whether the loads of `C`'s list have torques: not when its contacts are
+/// central and frictionless (a sphere scene's without friction), whose
+/// normal loads have no moment about either centre (the force's line
+/// passes through both centres): the law's torques there are rounding
+/// only, and are not added (the sums start at zero and stay so).
+#[inline(always)]
+fn torques<'l, C: Candidates<'l>>() -> bool {
+    !(C::CENTRAL && !<C::Keeping as Keeping>::RECORDS)
 }
 
 /// Compute block `n` of a candidate list (its `candidates` with their
@@ -681,14 +760,19 @@ fn add_block<'l, R, C: Candidates<'l>>(
     force: &mut [DVec3],
     torque: &mut [DVec3],
 ) {
+    let torques = torques::<C>();
     for (k, points) in block.hits() {
         let (a, b) = list.bodies(&cands[k]);
         for w in records[points].iter().map(wrench) {
             force[a] += w.force;
-            torque[a] += w.torque_a;
+            if torques {
+                torque[a] += w.torque_a;
+            }
             if let Some(b) = b {
                 force[b] -= w.force;
-                torque[b] -= w.torque_b;
+                if torques {
+                    torque[b] -= w.torque_b;
+                }
             }
         }
     }
@@ -720,20 +804,29 @@ impl Sink for Sums<'_> {
         overlap: f64,
         (a, d_a): (usize, f64),
         b: Option<(usize, f64)>,
+        torques: bool,
     ) {
         let w = &load.total;
         self.force[a] += w.force;
-        self.torque[a] += w.torque_a;
+        if torques {
+            self.torque[a] += w.torque_a;
+        }
         if let Some((b, _)) = b {
             self.force[b] -= w.force;
-            self.torque[b] -= w.torque_b;
+            if torques {
+                self.torque[b] -= w.torque_b;
+            }
         }
         if let (Some((df, dt)), Some(w)) = (&mut self.dissipative, &load.dissipative) {
             df[a] += w.force;
-            dt[a] += w.torque_a;
+            if torques {
+                dt[a] += w.torque_a;
+            }
             if let Some((b, _)) = b {
                 df[b] -= w.force;
-                dt[b] -= w.torque_b;
+                if torques {
+                    dt[b] -= w.torque_b;
+                }
             }
         }
         self.stats.elastic += load.elastic;
@@ -1021,10 +1114,62 @@ impl Blocks {
             Some((_, old)) => (&old.walls[..], &old.pairs[..]),
             None => (&[][..], &[][..]),
         };
-        let scene = Scene { geoms, kinds, laws };
         // One worker adds each point's loads as it makes them; blocks are
         // made for the pool, and to keep the hits.
         let direct = workers == 1 && !keep_hits;
+        let lists = Lists {
+            kernel,
+            list,
+            old: (old_walls, old_pairs),
+            motion,
+            walls,
+            size,
+            workers,
+            direct,
+        };
+        // A scene of spheres only is looped as such (`Kinds`).
+        let kept_walls = if kinds.iter().all(|&k| k == ColliderKind::Sphere) {
+            self.lists::<K, F, Spheres>(lists, geoms, kinds, laws, &mut sums)
+        } else {
+            self.lists::<K, F, AnyKinds>(lists, geoms, kinds, laws, &mut sums)
+        };
+        if let Some((h, mut old)) = recorded {
+            h.walls = sorted(kept_walls);
+            h.pairs = sorted(sums.kept);
+            old.walls.clear();
+            old.pairs.clear();
+            self.spare = old;
+        }
+        (sums.stats, sums.spring)
+    }
+
+    /// The wall candidates, then the pair candidates, of `l.list` into
+    /// `sums`, with the scene's bodies all of the kinds `S` admits; the
+    /// wall contacts' records kept (a law that keeps them).
+    fn lists<K: PairKernel, F: Keeping, S: Kinds>(
+        &mut self,
+        l: Lists<'_, K>,
+        geoms: &[FibreGeom],
+        kinds: &[ColliderKind],
+        laws: &Laws<F>,
+        sums: &mut Sums,
+    ) -> Vec<Entry> {
+        let Lists {
+            kernel,
+            list,
+            old: (old_walls, old_pairs),
+            motion,
+            walls,
+            size,
+            workers,
+            direct,
+        } = l;
+        let scene = Scene::<F, S> {
+            geoms,
+            kinds,
+            laws,
+            shapes: std::marker::PhantomData,
+        };
         // Walls first, then pairs: each body's order.
         if !list.walls.is_empty() {
             let walls = WallList {
@@ -1058,15 +1203,23 @@ impl Blocks {
                 sums.in_order(&pairs, &list.pairs, memory, ring, size, workers, buf);
             }
         }
-        if let Some((h, mut old)) = recorded {
-            h.walls = sorted(kept_walls);
-            h.pairs = sorted(sums.kept);
-            old.walls.clear();
-            old.pairs.clear();
-            self.spare = old;
-        }
-        (sums.stats, sums.spring)
+        kept_walls
     }
+}
+
+/// What [`Blocks::lists`] loops over: the kernel, the list with its
+/// records of the last computation (walls', pairs'), the bodies' motion
+/// bounds, the walls, the ring's size, the workers, and whether one
+/// worker adds the loads as it makes them.
+struct Lists<'a, K> {
+    kernel: &'a K,
+    list: &'a mut NeighbourList,
+    old: (&'a [Entry], &'a [Entry]),
+    motion: &'a [f32],
+    walls: &'a [Wall],
+    size: usize,
+    workers: usize,
+    direct: bool,
 }
 
 #[cfg(feature = "mpi")]
@@ -1287,6 +1440,8 @@ mod tests {
         type Candidate = u32;
         type Memory = u32;
         type Keeping = Frictionless;
+        /// (Points with torques: their adding is tested too.)
+        const CENTRAL: bool = false;
 
         fn eval(
             &self,

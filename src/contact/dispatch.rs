@@ -57,7 +57,7 @@ pub fn contacts_remembering(
         (Collider::Sphere(s), Collider::Fibre(f)) => {
             contact_sphere_fibre(&s, f, out);
         }
-        (Collider::Sphere(a), Collider::Sphere(b)) => contact_sphere_sphere(&a, &b, out),
+        (Collider::Sphere(a), Collider::Sphere(b)) => sphere_pair(&a, &b, out),
         (Collider::Fibre(f), Collider::Wall(w)) => contact_fibre_wall(f, w, out),
         (Collider::Sphere(s), Collider::Wall(w)) => contact_sphere_wall(&s, w, out),
         // The same contacts seen from the wall: forces and the weights'
@@ -75,6 +75,14 @@ pub fn contacts_remembering(
         // Walls do not move: they never meet.
         (Collider::Wall(_), Collider::Wall(_)) => {}
     }
+}
+
+/// The sphere–sphere arm: also called directly by a candidate list known
+/// to hold sphere pairs only (the candidate loop's `Spheres`), where the
+/// match is decided once for the whole list.
+#[inline(always)]
+pub fn sphere_pair(a: &SphereGeom, b: &SphereGeom, out: &mut Vec<ContactPoint>) {
+    contact_sphere_sphere(a, b, out);
 }
 
 /// Contacts seen from the other side: every force and weight couple

@@ -12,6 +12,7 @@ use glam::DVec3;
 
 /// Contact of sphere `a` with sphere `b`, appended to `out` if they overlap:
 /// one point, weight 1, normal = the direction of the force on `a`.
+#[inline]
 pub fn contact_sphere_sphere(a: &SphereGeom, b: &SphereGeom, out: &mut Vec<ContactPoint>) {
     let reach = a.radius + b.radius;
     let w = a.centre - b.centre;

@@ -632,12 +632,22 @@ mod tests {
     /// ones pressing on the box, tilted by up to 2 mrad and moving at up to
     /// 0.3 m/s: two blocks of wall candidates and twelve of pairs.
     fn packed(seed: u64) -> crate::scenario::Scene {
-        let (d, l, squeeze) = (0.01, 0.025, 1e-5);
-        let (nx, ny, nz) = (4, 12, 12);
-        let (px, py) = (l - squeeze, d - squeeze);
+        packed_of(seed, Some(0.025), 4)
+    }
+
+    /// [`packed`] of fibres of length `length`, or of spheres (`None`, D =
+    /// 0.01 m), `nx` along x.
+    fn packed_of(seed: u64, length: Option<f64>, nx: usize) -> crate::scenario::Scene {
+        let (d, squeeze) = (0.01, 1e-5);
+        let (ny, nz) = (12, 12);
+        let (px, py) = (length.unwrap_or(d) - squeeze, d - squeeze);
         let max = [px * nx as f64, py * ny as f64, py * nz as f64];
+        let shape = match length {
+            Some(l) => format!("shape = \"fibre\"\ndiameter = {d}\nlength = {l}"),
+            None => format!("shape = \"sphere\"\ndiameter = {d}"),
+        };
         let text = format!(
-            "[simulation]\ndt = 1e-6\nt_end = 1e-6\n[box]\nmin = [0.0, 0.0, 0.0]\nmax = [{}, {}, {}]\nyoung = 5e7\npoisson = 0.23\n[[body]]\nshape = \"fibre\"\ndiameter = {d}\nlength = {l}\ndensity = 1100.0\nyoung = 5e7\npoisson = 0.35\nposition = [0.1, 0.1, 0.1]\n",
+            "[simulation]\ndt = 1e-6\nt_end = 1e-6\n[box]\nmin = [0.0, 0.0, 0.0]\nmax = [{}, {}, {}]\nyoung = 5e7\npoisson = 0.23\n[[body]]\n{shape}\ndensity = 1100.0\nyoung = 5e7\npoisson = 0.35\nposition = [0.1, 0.1, 0.1]\n",
             max[0] + 0.1, max[1] + 0.1, max[2] + 0.1
         );
         let mut scene = crate::scenario::parse_str(&text, "<packed>").expect("one-body template");
@@ -664,7 +674,13 @@ mod tests {
                         px * (i as f64 + 0.5),
                         py * (j as f64 + 0.5),
                         py * (k as f64 + 0.5),
-                    );
+                    ) + if length.is_none() {
+                        // Spheres off the grid by up to 3 µm: normals off
+                        // the axes.
+                        3e-6 * DVec3::new(r(), r(), r())
+                    } else {
+                        DVec3::ZERO
+                    };
                     scene.bodies.push(template);
                     scene.initial.push(BodyState {
                         x,
@@ -867,6 +883,56 @@ mod tests {
                     on_pool(&mut many, bodies, &moved, threads) == second,
                     "{threads} threads, ring {ring:?}, second configuration, damping {damping:?}"
                 );
+            }
+        }
+    }
+
+    /// A scene of spheres only is looped as such (`blocks.rs`, `Spheres`:
+    /// the sphere–sphere kernel for every pair, central contacts). Its
+    /// forces, statistics and dissipation are the bits of the plain loop's
+    /// (which reads every body's kind and goes through the dispatch), on
+    /// one thread and on the pool, and its torques are exactly zero, as
+    /// those of a frictionless central contact are (Newton: the force's
+    /// line passes through both centres), where the plain loop's
+    /// `(p − c) × F` leaves rounding. (Mutants tried: the sphere list
+    /// calling no kernel; the law's torques added for central contacts.)
+    #[test]
+    fn a_sphere_scene_has_the_forces_of_the_generic_loop_and_no_torques() {
+        let scene = packed_of(0x2545_f491_4f6c_dd1d, None, 10);
+        let (bodies, n) = (&scene.bodies, scene.bodies.len());
+        for damping in [
+            None,
+            Some(Restitution {
+                fibre: 0.5,
+                wall: 0.7,
+            }),
+        ] {
+            let new = || {
+                ContactStage::new(bodies, &scene.materials, scene.walls.as_ref())
+                    .with_damping(damping, n, 1e-6, None)
+            };
+            let mut plain = new();
+            let (bits, stats, dissipated) = plain_loop(&mut plain, bodies, &scene.initial);
+            assert!(
+                stats.touching > 2 * BLOCK,
+                "live contacts: {}",
+                stats.touching
+            );
+            // The plain loop's torques: rounding, on some sphere at least.
+            assert!(bits.iter().any(|b| b[3..] != [0; 3]));
+            for threads in [1, 2, 3] {
+                let mut stage = new();
+                let (got, got_stats, got_dissipated) =
+                    on_pool(&mut stage, bodies, &scene.initial, threads);
+                assert_eq!(got_stats, stats, "{threads} threads, damping {damping:?}");
+                for (i, (g, p)) in got.iter().zip(&bits).enumerate() {
+                    assert_eq!(g[..3], p[..3], "force on {i}, {threads} threads");
+                    assert_eq!(g[3..], [0; 3], "torque on {i}, {threads} threads");
+                }
+                // The ledger's work: the damping's torques did no work
+                // worth a bit here either way.
+                let (a, b) = (f64::from_bits(got_dissipated), f64::from_bits(dissipated));
+                assert!((a - b).abs() <= 1e-12 * b.abs(), "{a} vs {b}");
             }
         }
     }
