@@ -16,7 +16,8 @@
 //!
 //! Per run it prints: fibres, steps, median fibre-steps/s and CPU time per
 //! fibre-step per thread count, the parallel efficiency and the CPU time on
-//! T threads over that on one, the neighbour-list builds and candidate pairs
+//! T threads over that on one, each stage's wall time per fibre-step on
+//! each thread count (one clocked run), the neighbour-list builds and candidate pairs
 //! per fibre, touching contacts per fibre, the end-involved scans and
 //! remembered answers, the scans' fallbacks and parry calls (per step, the
 //! start's computation apart), the stage shares (one clocked
@@ -180,6 +181,20 @@ fn main() {
                     // The world's heap on t threads (the pool's blocks included).
                     world = world.max(IN_USE.load(Ordering::Relaxed) - base);
                 }
+                // One clocked run: each stage's wall time per fibre-step on
+                // t threads (where a second thread gains or loses).
+                let mut w = World::new(&scene);
+                scene.sim.rotator().visit(Steps(&mut w, 2));
+                w.timers = Some(StageTimes::default());
+                scene.sim.rotator().visit(Steps(&mut w, steps));
+                let clocked = w.timers.unwrap();
+                let per = |d: std::time::Duration| 1e9 * d.as_secs_f64() / (steps * n as u64) as f64;
+                println!(
+                    "threads {t}, clocked: forces {:.0} ns, integration {:.0} ns, guards {:.0} ns per fibre-step",
+                    per(clocked.forces),
+                    per(clocked.integrate),
+                    per(clocked.guards)
+                );
                 (samples, cpu, world, allocs)
             });
         let (m, c) = (median(samples), median(cpu));

@@ -1035,7 +1035,7 @@ pub(crate) type Dissipative<'a> = (&'a mut [DVec3], &'a mut [DVec3]);
 impl Blocks {
     /// The contact forces and torques of every body (overwritten), and the
     /// scene statistics, from the candidates of `list` at the bodies'
-    /// `geoms` of collider `kinds` (their pairs' memories spending the bodies' `motion`
+    /// `geoms` of collider `kinds` (all spheres if `spheres`; their pairs' memories spending the bodies' `motion`
     /// bounds), the `walls` and the `laws`, on `workers` threads (the
     /// same bits for any number); with `dissipative`, the laws'
     /// non-conservative loads per body too; with `history` (a law that
@@ -1047,7 +1047,13 @@ impl Blocks {
         &mut self,
         kernel: &K,
         list: &mut NeighbourList,
-        (geoms, kinds, motion, walls): (&[FibreGeom], &[ColliderKind], &[f32], &[Wall]),
+        (geoms, kinds, spheres, motion, walls): (
+            &[FibreGeom],
+            &[ColliderKind],
+            bool,
+            &[f32],
+            &[Wall],
+        ),
         laws: &Laws<F>,
         (force, torque): (&mut [DVec3], &mut [DVec3]),
         counters: &mut KernelCounters,
@@ -1128,7 +1134,8 @@ impl Blocks {
             direct,
         };
         // A scene of spheres only is looped as such (`Kinds`).
-        let kept_walls = if kinds.iter().all(|&k| k == ColliderKind::Sphere) {
+        debug_assert_eq!(spheres, kinds.iter().all(|&k| k == ColliderKind::Sphere));
+        let kept_walls = if spheres {
             self.lists::<K, F, Spheres>(lists, geoms, kinds, laws, &mut sums)
         } else {
             self.lists::<K, F, AnyKinds>(lists, geoms, kinds, laws, &mut sums)

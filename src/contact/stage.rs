@@ -47,6 +47,8 @@ pub struct ContactStage {
     geoms: Vec<FibreGeom>,
     /// Each body's collider kind, by storage index.
     kinds: Vec<ColliderKind>,
+    /// Every body is a sphere (the candidate loop's `Spheres`).
+    spheres: bool,
     neighbours: NeighbourList,
     counters: KernelCounters,
     /// The work of the laws' non-conservative loads, if they have any.
@@ -84,6 +86,19 @@ fn move_to(g: &mut FibreGeom, new: FibreGeom) -> f32 {
     m
 }
 
+/// Put `new` in place of `g`, and the [`motion_bound`] between them in
+/// `m` unless the scene has spheres only: the bounds are read by fibre
+/// pairs' memories only (`fibre_fibre/coherence.rs`), so a sphere scene's
+/// stay unknown (`INFINITY`) and cost nothing.
+#[inline(always)]
+fn update(g: &mut FibreGeom, m: &mut f32, new: FibreGeom, spheres: bool) {
+    if spheres {
+        *g = new;
+    } else {
+        *m = move_to(g, new);
+    }
+}
+
 /// A bound on how far any point of the body moved from `old` to `new`
 /// (so how much any of its support values changed): the centre's shift
 /// plus the farthest point's `ρ |Δa|` (the least rotation taking one axis
@@ -115,6 +130,9 @@ impl ContactStage {
             laws: LawTable::new(bodies, materials, walls),
             geoms: Vec::with_capacity(bodies.len()),
             kinds: kinds(bodies),
+            spheres: bodies
+                .iter()
+                .all(|b| ColliderKind::of(&b.shape) == Some(ColliderKind::Sphere)),
             neighbours: NeighbourList::new(SKIN_PER_DIAMETER * thinnest),
             counters: KernelCounters::default(),
             ledger: None,
@@ -325,7 +343,13 @@ impl ContactStage {
         candidate_loop(
             &mut self.blocks,
             &mut self.neighbours,
-            (&self.geoms, &self.kinds, &self.motion, &self.walls),
+            (
+                &self.geoms,
+                &self.kinds,
+                self.spheres,
+                &self.motion,
+                &self.walls,
+            ),
             &Laws::<F>::new(&self.laws, bodies, states),
             (force, torque),
             &mut self.counters,
@@ -343,6 +367,7 @@ impl ContactStage {
     /// not read); the pool tests and updates every body in one pass.
     fn update_geometry(&mut self, bodies: &[Body], states: &[BodyState], pool: bool) {
         use rayon::prelude::*;
+        let spheres = self.spheres;
         self.geoms.resize(bodies.len(), FibreGeom::default());
         self.motion.resize(bodies.len(), f32::INFINITY);
         let valid = if pool {
@@ -358,7 +383,7 @@ impl ContactStage {
                     let kept = within
                         .as_ref()
                         .is_some_and(|w| w(i, s.x, s.rot.q, g.half_length));
-                    *m = move_to(g, geom(b, s));
+                    update(g, m, geom(b, s), spheres);
                     kept
                 })
                 .reduce(|| true, |x, y| x && y)
@@ -371,12 +396,13 @@ impl ContactStage {
             if valid {
                 for &i in &self.neighbours.active {
                     let i = i as usize;
-                    self.motion[i] = move_to(&mut self.geoms[i], geom(&bodies[i], &states[i]));
+                    let new = geom(&bodies[i], &states[i]);
+                    update(&mut self.geoms[i], &mut self.motion[i], new, spheres);
                 }
             } else {
                 let each = self.geoms.iter_mut().zip(&mut self.motion);
                 for ((g, m), (b, s)) in each.zip(bodies.iter().zip(states)) {
-                    *m = move_to(g, geom(b, s));
+                    update(g, m, geom(b, s), spheres);
                 }
             }
             valid
@@ -395,7 +421,7 @@ impl ContactStage {
 fn candidate_loop<F: Keeping>(
     blocks: &mut Blocks,
     list: &mut NeighbourList,
-    scene: (&[FibreGeom], &[ColliderKind], &[f32], &[Wall]),
+    scene: (&[FibreGeom], &[ColliderKind], bool, &[f32], &[Wall]),
     laws: &Laws<F>,
     loads: (&mut [DVec3], &mut [DVec3]),
     counters: &mut KernelCounters,
@@ -589,7 +615,13 @@ impl ContactStage {
         candidate_loop(
             &mut self.blocks,
             list,
-            (&self.geoms, &self.kinds, &self.motion, &self.walls),
+            (
+                &self.geoms,
+                &self.kinds,
+                self.spheres,
+                &self.motion,
+                &self.walls,
+            ),
             &Laws::<F>::new(&self.laws, bodies, states),
             (force, torque),
             &mut self.counters,
