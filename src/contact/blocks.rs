@@ -1043,6 +1043,7 @@ impl Blocks {
     /// ones put in its place. With `keep_hits` the rings hold the whole
     /// list, whose hits stay for [`Blocks::for_each_hit`].
     #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
     pub(crate) fn compute<K: PairKernel, F: Keeping>(
         &mut self,
         kernel: &K,
@@ -1153,6 +1154,7 @@ impl Blocks {
     /// The wall candidates, then the pair candidates, of `l.list` into
     /// `sums`, with the scene's bodies all of the kinds `S` admits; the
     /// wall contacts' records kept (a law that keeps them).
+    #[inline(never)]
     fn lists<K: PairKernel, F: Keeping, S: Kinds>(
         &mut self,
         l: Lists<'_, K>,

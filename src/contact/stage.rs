@@ -418,6 +418,7 @@ impl ContactStage {
 /// measuring build that replays recorded answers, with those
 /// (`replay.rs`).
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 fn candidate_loop<F: Keeping>(
     blocks: &mut Blocks,
     list: &mut NeighbourList,
