@@ -725,7 +725,7 @@ fn each_candidate<'l, C: Candidates<'l>>(
 /// only, and are not added (the sums start at zero and stay so).
 #[inline(always)]
 fn torques<'l, C: Candidates<'l>>() -> bool {
-    !(C::CENTRAL && !<C::Keeping as Keeping>::RECORDS)
+    !C::CENTRAL || <C::Keeping as Keeping>::RECORDS
 }
 
 /// Compute block `n` of a candidate list (its `candidates` with their
