@@ -291,13 +291,25 @@ impl Sink for Block {
         overlap: f64,
         (a, d_a): (usize, f64),
         b: Option<(usize, f64)>,
-        _: bool,
+        torques: bool,
     ) {
+        // (Torques not added are not kept: zeros, as the law's are not
+        // worked out.)
+        let kept = |w: Wrench| {
+            if torques {
+                w
+            } else {
+                Wrench {
+                    force: w.force,
+                    ..Wrench::default()
+                }
+            }
+        };
         if let Some(w) = load.dissipative {
-            self.dissipative.push(w);
+            self.dissipative.push(kept(w));
         }
         self.points.push(Point {
-            wrench: load.total,
+            wrench: kept(load.total),
             energy: load.elastic,
             #[cfg(feature = "mpi")]
             overlap,
