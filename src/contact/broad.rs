@@ -221,7 +221,14 @@ impl SkinRef {
             self.q[2].into(),
             self.q[3].into(),
         );
-        x.distance_squared(x0) + 4.0 * h * h * (q - q0).length_squared()
+        // (A sphere's `h` is 0: its turning moves no point of it, and the
+        // term, 0 for any finite `q`, is not worked out.)
+        let turn = if h == 0.0 {
+            0.0
+        } else {
+            4.0 * h * h * (q - q0).length_squared()
+        };
+        x.distance_squared(x0) + turn
     }
 
     /// How far this reference may be from the exact pose in the end-point

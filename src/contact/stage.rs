@@ -394,10 +394,20 @@ impl ContactStage {
                 .map(|(s, g)| (s.x, s.rot.q, g.half_length));
             let valid = self.neighbours.still_valid(poses);
             if valid {
-                for &i in &self.neighbours.active {
-                    let i = i as usize;
-                    let new = geom(&bodies[i], &states[i]);
-                    update(&mut self.geoms[i], &mut self.motion[i], new, spheres);
+                if spheres {
+                    // A sphere's record moves with its centre only (its
+                    // radius, axis and half length are those of the last
+                    // full update, at the list's build).
+                    for &i in &self.neighbours.active {
+                        let i = i as usize;
+                        self.geoms[i].centre = states[i].x;
+                    }
+                } else {
+                    for &i in &self.neighbours.active {
+                        let i = i as usize;
+                        let new = geom(&bodies[i], &states[i]);
+                        self.motion[i] = move_to(&mut self.geoms[i], new);
+                    }
                 }
             } else {
                 let each = self.geoms.iter_mut().zip(&mut self.motion);
