@@ -56,8 +56,8 @@ fn time_steps(scene: &Scene, kind: RotatorKind, iters: u64) -> Duration {
     total
 }
 
-/// The torque-free asymmetric top (`scenarios/asymmetric_top.toml`), the
-/// body the peer timings (LAMMPS, MuJoCo) were taken on.
+/// The torque-free asymmetric top (`scenarios/asymmetric_top.toml`): free
+/// rotation alone, no contacts.
 fn asymmetric_top() -> Scene {
     let text = include_str!("../scenarios/asymmetric_top.toml");
     scenario::parse_str(text, "asymmetric top").unwrap()

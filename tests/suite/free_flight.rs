@@ -36,7 +36,7 @@ fn split_free_flight(scene: &Scene, dt: f64, steps: u64) -> (f64, f64, f64) {
     )
 }
 
-/// The criterion: ≤ 1e-12 rad over 10⁶ free steps, for the
+/// The free-flight criterion: ≤ 1e-12 rad over 10⁶ free steps, for the
 /// asymmetric top (elliptic-function flow, 100 s at 1e-4 s) and for the
 /// precessing fibre (closed-form flow, 10 s at 1e-5 s).
 #[test]

@@ -96,7 +96,7 @@ fn whole_rows(p: &Path) -> usize {
     rows
 }
 
-/// The reproduction: a run with checkpoints, then another run into
+/// The reported corruption reproduced: a run with checkpoints, then another run into
 /// the same folder with another δt, then a resume of the first run's
 /// checkpoint. The second run is refused (exit 2, naming `--force` and
 /// `--out`) and touches nothing, so the resume continues the first run:

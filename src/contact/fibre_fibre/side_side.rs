@@ -225,8 +225,8 @@ const CROSSING_BAND: f64 = TIE_BAND / 8.0;
 /// crossing depth equals that end's depth (they tie exactly), and beyond
 /// it the model is `S` or regime 3's exact depth; a fixed band put the
 /// main depth ε_c/4 (31 nm) above both there, a jump in the potential at
-/// the switch (`spinning_fibres`: a 5e-4 % energy step at every δt, issue
-/// 10). With `ε_c = 0` for crossed pairs the main depth is the plain
+/// the switch (`spinning_fibres`: a 5e-4 % energy step at every δt).
+/// With `ε_c = 0` for crossed pairs the main depth is the plain
 /// `max(δ_cp, S) = δ_cp` up to the switch, continuous; the tie the band
 /// is for (an exactly parallel pair) keeps it. Between, `∂δ_main/∂ε_c =
 /// w_c w_S` (the C¹ formula) times `band_grad` is a pure couple of the
