@@ -73,6 +73,21 @@ fn acceleration(rows: &[Row], t1: f64, t2: f64) -> f64 {
     (at(t2).1[0] - at(t1).1[0]) / (t2 - t1)
 }
 
+/// The mean acceleration along x from 20 to 60 ms, checked against the
+/// closed form `a_ref` to 1e-3 relative (printed with its deviation,
+/// `what` naming the case).
+fn assert_acceleration(rows: &[Row], a_ref: f64, what: &str) {
+    let a = acceleration(rows, 0.02, 0.06);
+    eprintln!(
+        "{what}: a = {a} m/s², closed form {a_ref} (deviation {:.2e})",
+        a / a_ref - 1.0
+    );
+    assert!(
+        (a / a_ref - 1.0).abs() < 1e-3,
+        "{what}: a = {a}, closed form {a_ref}"
+    );
+}
+
 /// (a) A sphere (D = 1 cm) launched at v₀ = 0.5 m/s without spin on a
 /// floor of μ = 0.3: `v(t) = v₀ − μ g t`, `ω(t) = 5 μ g t/(2R)` until
 /// `t* = 2 v₀/(7 μ g)` (48.5 ms), then `v = 5 v₀/7`, `ω = v/R`.
@@ -193,15 +208,7 @@ fn a_sphere_on_a_slope_rolls_or_slides() {
             &sphere(d, -0.15, [0.0; 3]),
         );
         let rows = run(dir.path(), &format!("slope_{mu}"), &text);
-        let a = acceleration(&rows, 0.02, 0.06);
-        eprintln!(
-            "sphere, μ = {mu}: a = {a} m/s², closed form {a_ref} (deviation {:.2e})",
-            a / a_ref - 1.0
-        );
-        assert!(
-            (a / a_ref - 1.0).abs() < 1e-3,
-            "μ = {mu}: a = {a}, closed form {a_ref}"
-        );
+        assert_acceleration(&rows, a_ref, &format!("sphere, μ = {mu}"));
         let (_, v, w) = rows.last().unwrap();
         let slip = v[0] - w[1] * r;
         if rolls {
@@ -241,15 +248,11 @@ fn a_sphere_slides_with_the_smaller_mu_of_its_material_and_the_walls() {
             &format!("{own}{materials}{body}"),
         );
         let rows = run(dir.path(), &format!("materials_{name}_{mu}"), &text);
-        let a = acceleration(&rows, 0.02, 0.06);
         let a_ref = G * (theta.sin() - mu * theta.cos());
-        eprintln!(
-            "sphere of {name} ({contact}): a = {a} m/s², closed form at μ = {mu} {a_ref} (deviation {:.2e})",
-            a / a_ref - 1.0
-        );
-        assert!(
-            (a / a_ref - 1.0).abs() < 1e-3,
-            "{name}: a = {a}, closed form at μ = {mu} {a_ref}"
+        assert_acceleration(
+            &rows,
+            a_ref,
+            &format!("sphere of {name} ({contact}), closed form at μ = {mu}"),
         );
     }
 }
@@ -300,16 +303,7 @@ fn a_fibre_across_a_slope_rolls_at_two_thirds() {
         fibre,
     );
     let rows = run(dir.path(), "fibre_slope", &text);
-    let a = acceleration(&rows, 0.02, 0.06);
-    let a_ref = 2.0 / 3.0 * G * theta.sin();
-    eprintln!(
-        "fibre across the slope: a = {a} m/s², closed form {a_ref} (deviation {:.2e})",
-        a / a_ref - 1.0
-    );
-    assert!(
-        (a / a_ref - 1.0).abs() < 1e-3,
-        "a = {a}, closed form {a_ref}"
-    );
+    assert_acceleration(&rows, 2.0 / 3.0 * G * theta.sin(), "fibre across the slope");
 }
 
 /// (d) `friction = 0` (and `wall_friction = 0`) is the frictionless
@@ -894,16 +888,8 @@ fn a_fibre_down_a_slope_sticks_or_slides() {
             eprintln!("fibre down the slope, μ = {mu}: fastest from 10 ms {fastest:e} m/s");
             assert!(fastest < 1e-5, "μ = {mu} > tan θ sticks: {fastest:e} m/s");
         } else {
-            let a = acceleration(&rows, 0.02, 0.06);
             let a_ref = G * (theta.sin() - mu * theta.cos());
-            eprintln!(
-                "fibre down the slope, μ = {mu}: a = {a}, closed form {a_ref} (deviation {:.2e})",
-                a / a_ref - 1.0
-            );
-            assert!(
-                (a / a_ref - 1.0).abs() < 1e-3,
-                "a = {a}, closed form {a_ref}"
-            );
+            assert_acceleration(&rows, a_ref, &format!("fibre down the slope, μ = {mu}"));
             let (_, _, w) = rows.last().unwrap();
             assert!(w[1].abs() < 1e-6, "no roll: ω_y = {}", w[1]);
         }
@@ -1089,8 +1075,7 @@ fn the_shipped_friction_scenes_show_their_closed_forms() {
         run(dir.path(), name.trim_end_matches(".toml"), &text)
     };
     let rows = cut("fibre_rolling.toml", "0.06");
-    let (a, a_ref) = (acceleration(&rows, 0.02, 0.06), 2.0 / 3.0 * G * theta.sin());
-    assert!((a / a_ref - 1.0).abs() < 1e-3, "rolling: a = {a}, {a_ref}");
+    assert_acceleration(&rows, 2.0 / 3.0 * G * theta.sin(), "rolling");
     let (_, v, w) = rows.last().unwrap();
     assert!(
         (w[1] * r / v[0] - 1.0).abs() < 1e-3,
@@ -1099,11 +1084,7 @@ fn the_shipped_friction_scenes_show_their_closed_forms() {
         v[0]
     );
     let rows = cut("fibre_sliding.toml", "0.06");
-    let (a, a_ref) = (
-        acceleration(&rows, 0.02, 0.06),
-        G * (theta.sin() - mu * theta.cos()),
-    );
-    assert!((a / a_ref - 1.0).abs() < 1e-3, "sliding: a = {a}, {a_ref}");
+    assert_acceleration(&rows, G * (theta.sin() - mu * theta.cos()), "sliding");
     let at = |t: f64| {
         rows.iter()
             .find(|row| (row.0 - t).abs() < 0.5 * DT)
