@@ -12,13 +12,30 @@
 //!    Eq. 11): `ξ ← |ξ| ξ_⊥/|ξ_⊥|`, `ξ_⊥ = ξ − (n·ξ) n`.
 //! 2. It stretches with the tangential motion: `v_t = v − (n·v) n`,
 //!    `ξ ← ξ + v_t δt`.
-//! 3. The trial force `f = −k_t ξ − η_t v_t` (Eq. 12).
-//! 4. Coulomb: if `|f| > μ F_n` the contact slides: `f ← μ F_n f/|f|`, and
-//!    the spring is reset to hold that whole force, `ξ ← −f/k_t`: while
-//!    it slides the damping takes no part (LIGGGHTS'
-//!    `tangential_model_history`; Cundall & Strack's spring at the slip
-//!    limit). The total tangential force, damping included, never exceeds
+//! 3. The spring's force `f_s = −k_t ξ`, and the trial force `f = f_s −
+//!    η_t v_t` (Eq. 12).
+//! 4. Coulomb, decided on the spring's force alone (as LIGGGHTS'
+//!    `tangential_model_history`): if `|f_s| > μ F_n` the contact slides:
+//!    `f ← μ F_n f_s/|f_s|`, and the spring is reset to hold that whole
+//!    force, `ξ ← −f/k_t`: while it slides the damping takes no part
+//!    (Cundall & Strack's spring at the slip limit). Otherwise it sticks
+//!    and keeps its spring; its force is the trial `f`, scaled to `μ F_n`
+//!    along itself where the damping takes it beyond (which LIGGGHTS does
+//!    not do). The total tangential force, damping included, never exceeds
 //!    `μ F_n`.
+//!
+//! Why decide on the spring: the spring is an integral of the motion (it
+//! sums `v_t δt`), the damping term the instantaneous velocity at the half
+//! step. A test on the whole trial force resets the spring whenever the
+//! damping tips it over the cap, and on a resting damped contact, whose
+//! spring sits near the cap while its velocity jitters about zero, that
+//! tips it between sticking and sliding from step to step, differently at
+//! each δt: the reset, a jump of the spring, then follows the velocity's
+//! noise and the trajectories stop converging in δt. Decided on the
+//! spring, a contact slides only once its accumulated displacement loads
+//! the spring to the cap; the damping's excess over the cap is still cut
+//! (a sticking force above it is scaled down), and the spring is left as
+//! the motion made it.
 //!
 //! Why not Luding's Eq. 13, `ξ ← −(f + η_t v_t)/k_t` (the spring with the
 //! damping gives the capped force, as LAMMPS's `gran/hertz/history`):
@@ -26,9 +43,10 @@
 //! it stores the spring *along* the slip, and as `k_t ∝ δ^{1/2}` grows
 //! faster than `η_t ∝ δ^{1/4}` while the contact loads, the next trial
 //! force points along the slip and friction pushes the sliding contact
-//! forward. With the spring holding `−f/k_t`, the next trial is
-//! `(k_t'/k_t) f − (k_t' δt + η_t) v_t`: every part of it opposes a slip
-//! that keeps its direction, so a sliding contact is always braked.
+//! forward. With the spring holding `−f/k_t`, the next spring force is
+//! `(k_t'/k_t) f − k_t' δt v_t` and the next trial adds `−η_t v_t`: every
+//! part of either opposes a slip that keeps its direction, so a sliding
+//! contact is always braked.
 //!
 //! `k_t = 8 G* a` with the contact radius `a = √(R* δ)` and
 //! `1/G* = (2−ν₁)/G₁ + (2−ν₂)/G₂`, `G = E/(2(1+ν))`. The tangential damping
@@ -106,7 +124,9 @@ impl Tangential {
 pub struct TangentialForce {
     /// The force on A (B gets minus it), N.
     pub force: DVec3,
-    /// Whether the contact slides this step (the Coulomb cap holds).
+    /// Whether the contact slides this step: its spring reached the Coulomb
+    /// cap and was reset to it (a sticking contact's force can be at the
+    /// cap too, its damping cut).
     pub sliding: bool,
 }
 
@@ -137,15 +157,21 @@ pub fn step_spring(
     };
     let v_t = v - n.dot(v) * n;
     *xi += v_t * dt;
-    let trial = -k_t * *xi - eta_t * v_t;
-    let size2 = trial.length_squared();
-    if size2 <= cap * cap {
+    let spring = -k_t * *xi;
+    let spring2 = spring.length_squared();
+    if spring2 <= cap * cap {
+        let trial = spring - eta_t * v_t;
+        let trial2 = trial.length_squared();
         return TangentialForce {
-            force: trial,
+            force: if trial2 <= cap * cap {
+                trial
+            } else {
+                trial * (cap / trial2.sqrt())
+            },
             sliding: false,
         };
     }
-    let force = trial * (cap / size2.sqrt());
+    let force = spring * (cap / spring2.sqrt());
     *xi = -force / k_t;
     TangentialForce {
         force,
@@ -154,10 +180,14 @@ pub fn step_spring(
 }
 
 /// The energy the spring `xi` of stiffness `k_t` holds and can give back,
-/// J: `½ k_t |ξ|²`. A sliding contact's spring holds the cap, `½ (μ
-/// F_n)²/k_t` (step 4); a sticking one can hold more only while its
-/// damping opposes the spring, that is while the spring unloads and gives
-/// that energy back.
+/// J: `½ k_t |ξ|²`. No spring holds more than the cap's `½ (μ F_n)²/k_t`
+/// (step 4): a sliding contact's holds exactly that, a sticking one's
+/// force `k_t |ξ|` is within the cap by the very test that keeps it.
+/// Where a sticking force is cut to the cap, the work done against it in
+/// the step, `μ F_n u·v_t δt` with `u` the unit `k_t ξ + η_t v_t`, is at
+/// least the spring's gain `k_t ξ·v_t δt − ½ k_t |v_t δt|²`: `u` lies
+/// between `ξ` and `v_t` in angle and at most a right angle from `v_t`
+/// (`|k_t ξ + η_t v_t| > μ F_n ≥ k_t |ξ|`), so the cut is a loss.
 pub fn spring_energy(xi: DVec3, k_t: f64) -> f64 {
     0.5 * k_t * xi.length_squared()
 }
@@ -219,19 +249,21 @@ mod tests {
     }
 
     /// Sliding: the total force, damping included, is exactly the cap,
-    /// along the trial force; the spring alone holds it.
+    /// along the spring's force; the spring alone holds it, and the
+    /// damping takes no part (the same bits without it).
     #[test]
     fn a_sliding_contact_pulls_with_the_cap() {
         let (k, eta, cap) = (2e4, 0.5, 1e-3);
         let v = DVec3::new(0.3, -0.4, 0.0);
-        let mut xi = DVec3::new(1e-4, 0.0, 0.0);
-        let trial = -k * (xi + v * DT) - eta * v;
+        let start = DVec3::new(1e-4, 0.0, 0.0);
+        let spring = -k * (start + v * DT);
+        let mut xi = start;
         let f = step_spring(&mut xi, DVec3::Z, v, DT, k, eta, cap);
         assert!(f.sliding);
         assert!((f.force.length() / cap - 1.0).abs() < 1e-15, "{f:?}");
         assert!(
-            (f.force.normalize() - trial.normalize()).length() < 1e-15,
-            "{f:?} {trial}"
+            (f.force.normalize() - spring.normalize()).length() < 1e-15,
+            "{f:?} {spring}"
         );
         let back = -k * xi;
         assert!((back - f.force).length() < 4e-16 * cap, "{back} {f:?}");
@@ -239,9 +271,84 @@ mod tests {
             (spring_energy(xi, k) / (cap * cap / (2.0 * k)) - 1.0).abs() < 1e-15,
             "the spring holds the cap"
         );
+        let mut undamped = start;
+        let g = step_spring(&mut undamped, DVec3::Z, v, DT, k, 0.0, cap);
+        assert_eq!((g, undamped), (f, xi));
         // No normal force, no tangential force.
         let g = step_spring(&mut xi, DVec3::Z, v, DT, k, 0.0, 0.0);
         assert_eq!((g.force, xi), (DVec3::ZERO, DVec3::ZERO));
+    }
+
+    /// Sticking is decided on the spring: a contact whose spring is within
+    /// the cap, `|k_t ξ| < μ F_n`, but whose damping takes the trial over
+    /// it, `|k_t ξ + η_t v_t| > μ F_n`, sticks: its force is the cap along
+    /// the trial force and its spring is the one the motion made, `ξ + v_t
+    /// δt` (a test on the whole trial force would slide it and reset the
+    /// spring to `−f/k_t`).
+    #[test]
+    fn the_damping_does_not_make_a_contact_slide() {
+        let (k, eta, cap) = (2e4, 0.5, 1e-3);
+        // The spring at 0.8 of the cap along x, the velocity across it:
+        // the stretch adds 0.024 cap along y to the spring (|f_s| = 0.8004
+        // cap), the damping η_t |v_t| = 0.6 cap (|f| = 1.015 cap).
+        let start = DVec3::new(0.8 * cap / k, 0.0, 0.0);
+        let v = DVec3::new(0.0, 1.2e-3, 0.0);
+        let moved = start + v * DT;
+        let spring = -k * moved;
+        let trial = spring - eta * v;
+        assert!(
+            spring.length() < cap && trial.length() > cap,
+            "{spring} {trial}"
+        );
+        let mut xi = start;
+        let f = step_spring(&mut xi, DVec3::Z, v, DT, k, eta, cap);
+        assert!(!f.sliding, "{f:?}");
+        assert_eq!(xi, moved, "the spring is kept");
+        assert!((f.force.length() / cap - 1.0).abs() < 1e-15, "{f:?}");
+        assert!(
+            (f.force.normalize() - trial.normalize()).length() < 1e-15,
+            "{f:?} {trial}"
+        );
+        assert!(spring_energy(xi, k) < cap * cap / (2.0 * k));
+        // The cut is a loss: the work done against the force is at least
+        // what the spring gained (module documentation, `spring_energy`).
+        let gained = spring_energy(xi, k) - spring_energy(start, k);
+        assert!(-f.force.dot(v) * DT >= gained, "{gained:e}");
+    }
+
+    /// A resting damped contact whose spring sits near the cap while its
+    /// velocity jitters about zero (±u on alternate steps, the damping's
+    /// term `η_t u` = 0.3 of the cap): the spring comes back to where it
+    /// was every second step and never slides, whatever the jitter's phase.
+    /// (A test on the whole trial force slides it on every step whose
+    /// damping adds to the spring, resetting the spring each time: it
+    /// drifts, by the jitter.)
+    #[test]
+    fn a_jittering_contact_near_the_cap_keeps_its_spring() {
+        let (k, eta, cap) = (2e4, 0.5, 1e-3);
+        let u = 0.3 * cap / eta;
+        let start = DVec3::new(0.9 * cap / k, 0.0, 0.0);
+        for first in [1.0, -1.0] {
+            let mut xi = start;
+            for step in 0..1000 {
+                let sign = if step % 2 == 0 { first } else { -first };
+                let f = step_spring(
+                    &mut xi,
+                    DVec3::Z,
+                    DVec3::new(sign * u, 0.0, 0.0),
+                    DT,
+                    k,
+                    eta,
+                    cap,
+                );
+                assert!(!f.sliding, "step {step}, first {first}: {f:?}");
+                assert!(f.force.length() <= cap * (1.0 + 1e-15), "{f:?}");
+            }
+            assert!(
+                (xi - start).length() < 1e-12 * start.length(),
+                "first {first}: {xi} against {start}"
+            );
+        }
     }
 
     /// Reversal (η = 0): from sliding at +cap, moving back by `s` takes the

@@ -847,12 +847,13 @@ fn an_elastic_oblique_impact_in_gross_slip_takes_mu_times_the_normal_impulse() {
     oblique_impact(1.0);
 }
 
-/// (f) at e = 0.5: sliding throughout, the contact feels the cap `μ max(F_n,
-/// 0)` against the slip at every step (the spring holds the cap, the
-/// damping takes no part while sliding: `tangential.rs`), so the closed
-/// form `μ (1 + e) v_n (1 + A/J)` holds with no deviation of the
-/// convention's own; the tolerance is the discrete impulse sums' and the
-/// damping model's.
+/// (f) at e = 0.5: in gross slip the contact feels the cap `μ max(F_n, 0)`
+/// against the slip at every step (sliding, the spring holds the cap and
+/// the damping takes no part; where the spring is below the cap, the
+/// damping term along the slip takes the trial over it and the trial is
+/// cut to it: `tangential.rs`), so the closed form `μ (1 + e) v_n (1 +
+/// A/J)` holds with no deviation of the convention's own; the tolerance is
+/// the discrete impulse sums' and the damping model's.
 #[test]
 fn a_damped_oblique_impact_in_gross_slip_takes_mu_times_the_pushing_impulse() {
     oblique_impact(0.5);
