@@ -10,9 +10,9 @@
 #         `fibresim generate` (recommended δt 4.9e-6 s). Every landing twists
 #         and spins the fibres through the tangential springs.
 #         The whole drop (0.3 s): full-budget energy error, δt = 4, 2, 1 µs;
-#   window: its first 0.03 s (the first landings; by 0.04 s some event, a
-#        contact or a stick–slip switch, already flips between δt = 1 and
-#        0.5 µs): full-budget energy error and the distance at T to nosquish
+#   window: its first 0.03 s (the first landings; later windows converge
+#        ever more slowly as landings multiply): full-budget energy error
+#        and the distance at T to nosquish
 #        at δt = 0.125 µs, whose own error converge reports (its distance to
 #        its twin at 0.25 µs), at δt = 4, 2, 1, 0.5 µs;
 #   control: the whole drop again for six rotators, damped but frictionless
