@@ -401,7 +401,7 @@ thread_local! {
 /// A touching candidate as its evaluation leaves it (its points in the
 /// kernels' buffer): its law, and its body A and body B (none for a wall),
 /// each as `(index, diameter)`.
-pub(crate) struct Touching<'l, F> {
+pub(crate) struct Touching<'l, F: Keeping> {
     law: CandidateLaw<'l, F>,
     a: (usize, f64),
     b: Option<(usize, f64)>,
@@ -1155,7 +1155,14 @@ impl Blocks {
         };
         if let Some((h, mut old)) = recorded {
             h.walls = sorted(kept_walls);
-            h.pairs = sorted(sums.kept);
+            // The pairs' records come in key order already: the list is
+            // sorted (checked at each build, above) and a pair's slots are
+            // its points' ranks, in order.
+            debug_assert!(
+                sums.kept.is_sorted_by_key(|e| e.0),
+                "pair records in key order"
+            );
+            h.pairs = sums.kept;
             old.walls.clear();
             old.pairs.clear();
             self.spare = old;

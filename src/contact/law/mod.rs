@@ -25,9 +25,9 @@
 
 mod table;
 
-pub(crate) use table::{body_law, body_wall_law, LawTable};
+pub(crate) use table::{body_law, body_wall_law, LawTable, TangentialLaw};
 
-use super::tangential::{spring_energy, step_spring, Tangential};
+use super::tangential::{spring_energy, step_spring};
 use super::{ContactPoint, HertzLaw};
 use crate::body::{Body, BodyState};
 use glam::DVec3;
@@ -44,6 +44,14 @@ use std::marker::PhantomData;
 pub(crate) trait Keeping: Copy + Send + Sync + 'static {
     /// The laws keep a record per contact.
     const RECORDS: bool;
+    /// What a candidate's law holds of its tangential law: nothing (a
+    /// zero-sized value) for laws that keep no records.
+    type Tangential: Copy;
+    /// The tangential law `t` gives, if any (never without records).
+    fn tangential(held: Self::Tangential) -> Option<TangentialLaw>;
+    /// What a candidate's law holds of the tangential law `t` gives
+    /// (`t` is not called without records).
+    fn hold(t: impl FnOnce() -> Option<TangentialLaw>) -> Self::Tangential;
 }
 
 /// Laws without a tangential part: no record per contact.
@@ -52,6 +60,13 @@ pub(crate) struct Frictionless;
 
 impl Keeping for Frictionless {
     const RECORDS: bool = false;
+    type Tangential = ();
+    #[inline(always)]
+    fn tangential((): ()) -> Option<TangentialLaw> {
+        None
+    }
+    #[inline(always)]
+    fn hold(_: impl FnOnce() -> Option<TangentialLaw>) {}
 }
 
 /// Laws with Coulomb friction: a record (the spring) per contact.
@@ -60,6 +75,15 @@ pub(crate) struct Frictional;
 
 impl Keeping for Frictional {
     const RECORDS: bool = true;
+    type Tangential = Option<TangentialLaw>;
+    #[inline(always)]
+    fn tangential(held: Option<TangentialLaw>) -> Option<TangentialLaw> {
+        held
+    }
+    #[inline(always)]
+    fn hold(t: impl FnOnce() -> Option<TangentialLaw>) -> Option<TangentialLaw> {
+        t()
+    }
 }
 
 /// A load on a candidate's two bodies: a force on A (B gets minus it) and
@@ -206,11 +230,7 @@ impl<'a, F: Keeping> Laws<'a, F> {
             alpha: self.table.alpha_wall(),
             root_mk: (motion.reduced_mass(&a, None) * hertz.stiffness()).sqrt(),
             motion,
-            tangential: if F::RECORDS {
-                self.table.tangential_wall(a.index)
-            } else {
-                None
-            },
+            tangential: F::hold(|| self.table.tangential_wall(a.index)),
         });
         CandidateLaw {
             hertz,
@@ -224,17 +244,40 @@ impl<'a, F: Keeping> Laws<'a, F> {
     /// The law of body `a` (the pair's first) against body `b`.
     #[inline(always)]
     pub(crate) fn pair(&self, a: Side, b: Side) -> CandidateLaw<'a, F> {
+        if F::RECORDS {
+            return self.frictional_pair(a, b);
+        }
         let hertz = self.table.pair(a.index, b.index);
         let nc = self.motion.map(|motion| NonConservative {
             alpha: self.table.alpha_pair(),
             root_mk: (motion.reduced_mass(&a, Some(&b)) * hertz.stiffness()).sqrt(),
             motion,
-            tangential: if F::RECORDS {
-                self.table.tangential_pair(a.index, b.index)
-            } else {
-                None
-            },
+            tangential: F::hold(|| None),
         });
+        CandidateLaw {
+            hertz,
+            a,
+            b: Some(b),
+            nc,
+            keeping: PhantomData,
+        }
+    }
+
+    /// [`Laws::pair`] of laws that keep records: the Hertz and the
+    /// tangential law in one lookup, and the motion read without a
+    /// closure (a frictional scene's laws always read it).
+    #[inline(always)]
+    fn frictional_pair(&self, a: Side, b: Side) -> CandidateLaw<'a, F> {
+        let (hertz, tangential) = self.table.pair_with_tangential(a.index, b.index);
+        let nc = match self.motion {
+            Some(motion) => Some(NonConservative {
+                alpha: self.table.alpha_pair(),
+                root_mk: (motion.reduced_mass(&a, Some(&b)) * hertz.stiffness()).sqrt(),
+                motion,
+                tangential: F::hold(|| tangential),
+            }),
+            None => None,
+        };
         CandidateLaw {
             hertz,
             a,
@@ -250,21 +293,21 @@ impl<'a, F: Keeping> Laws<'a, F> {
 /// (`damping.rs`), and the friction law with its time step, if the
 /// candidate's contacts are frictional.
 #[derive(Clone, Copy)]
-struct NonConservative<'a> {
+struct NonConservative<'a, F: Keeping> {
     motion: Motion<'a>,
     alpha: f64,
     /// `√(m* k)`, `k` the Hertz stiffness.
     root_mk: f64,
-    tangential: Option<(Tangential, f64)>,
+    tangential: F::Tangential,
 }
 
 /// The law of one candidate (its kinds' constants, its two sides).
 #[derive(Clone, Copy)]
-pub(crate) struct CandidateLaw<'a, F> {
+pub(crate) struct CandidateLaw<'a, F: Keeping> {
     hertz: HertzLaw,
     a: Side,
     b: Option<Side>,
-    nc: Option<NonConservative<'a>>,
+    nc: Option<NonConservative<'a, F>>,
     keeping: PhantomData<F>,
 }
 
@@ -273,7 +316,10 @@ impl<F: Keeping> CandidateLaw<'_, F> {
     /// frictional; never for [`Frictionless`] laws).
     #[inline(always)]
     pub(crate) fn keeps_history(&self) -> bool {
-        F::RECORDS && self.nc.is_some_and(|nc| nc.tangential.is_some())
+        F::RECORDS
+            && self
+                .nc
+                .is_some_and(|nc| F::tangential(nc.tangential).is_some())
     }
 
     /// The loads of contact point `c` of this candidate, with the
@@ -296,8 +342,8 @@ impl<F: Keeping> CandidateLaw<'_, F> {
             let rate = -c.normal.dot(rel);
             let f_d = c.weight * nc.alpha * nc.root_mk * c.overlap.sqrt().sqrt() * rate;
             f_n += f_d;
-            let tangential = if F::RECORDS { nc.tangential } else { None };
-            let Some((t, dt)) = &tangential else {
+            let tangential = F::tangential(nc.tangential);
+            let Some(t) = &tangential else {
                 return PointLoad {
                     total: Wrench::at(f_n * c.normal, c.point, Some(-u * c.weight_grad), ca, cb),
                     elastic: c.weight * u,
@@ -308,16 +354,16 @@ impl<F: Keeping> CandidateLaw<'_, F> {
             // Tangential: the spring of `tangential.rs`, weighted as the
             // normal force is (a blend's points share one contact's
             // stiffness); η_t = 2 η_n √(G*/E*) with η_n the damping's
-            // `w α √(m* k) δ^{1/4}`; the cap μ max(F_n, 0) with F_n the
+            // `w α √(m* k) δ^{1/4}` (the root tabled per kind pair); the cap μ max(F_n, 0) with F_n the
             // point's whole normal force, elastic and damping.
-            let k_t = c.weight * t.stiffness(self.hertz.r_star, c.overlap);
+            let k_t = c.weight * t.law.stiffness(self.hertz.r_star, c.overlap);
             let eta_n = c.weight * nc.alpha * nc.root_mk * c.overlap.sqrt().sqrt();
-            let eta_t = 2.0 * eta_n * (t.g_star / self.hertz.e_star).sqrt();
-            let cap = t.mu * f_n.max(0.0);
+            let eta_t = 2.0 * eta_n * t.root_g_over_e;
+            let cap = t.law.mu * f_n.max(0.0);
             let f_t = if k_t > 0.0 {
                 // (A split contact's normal is not unit: its plane's is.)
                 let n = c.normal.normalize();
-                step_spring(&mut record.xi, n, rel, *dt, k_t, eta_t, cap).force
+                step_spring(&mut record.xi, n, rel, t.dt, k_t, eta_t, cap).force
             } else {
                 record.xi = DVec3::ZERO;
                 DVec3::ZERO

@@ -53,12 +53,38 @@ pub(crate) struct LawTable {
     /// The scene's Coulomb coefficients and the time step its springs
     /// advance by, if it declares friction.
     friction: Option<(Friction, f64)>,
-    /// The tangential laws (frictional scenes): body–wall of each kind
-    /// (empty without walls or wall friction), body–body of kinds
-    /// `(i, j)` as [`LawTable::pair`] (empty without body friction or
-    /// above [`MAX_TABLE_KINDS`] kinds).
-    tangential_wall: Vec<Tangential>,
-    tangential_pair: Vec<Tangential>,
+    /// The tangential laws (frictional scenes; `None` where μ = 0):
+    /// body–wall of each kind (empty without walls), body–body of kinds
+    /// `(i, j)` as [`LawTable::pair`] (empty above [`MAX_TABLE_KINDS`]
+    /// kinds).
+    tangential_wall: Vec<Option<TangentialLaw>>,
+    tangential_pair: Vec<Option<TangentialLaw>>,
+}
+
+/// A frictional contact kind pair's tangential law as a contact point's
+/// step reads it: the law, the ratio `√(G*/E*)` of its damping `η_t = 2
+/// η_n √(G*/E*)` (`tangential.rs`) with `E*` the pair's Hertz law's, and
+/// the time step its springs advance by. The ratio is a constant of the
+/// kind pair: tabled, it is the same expression of the same numbers as
+/// worked out per point, so the same bits, for one square root and one
+/// division fewer per point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct TangentialLaw {
+    pub law: Tangential,
+    pub root_g_over_e: f64,
+    pub dt: f64,
+}
+
+impl TangentialLaw {
+    /// The law `t` of a contact whose Hertz law is `hertz`, its springs
+    /// advanced by `dt`; `None` when `t` is frictionless (μ = 0).
+    fn of(t: Tangential, hertz: &HertzLaw, dt: f64) -> Option<Self> {
+        (t.mu > 0.0).then(|| TangentialLaw {
+            law: t,
+            root_g_over_e: (t.g_star / hertz.e_star).sqrt(),
+            dt,
+        })
+    }
 }
 
 impl LawTable {
@@ -125,28 +151,27 @@ impl LawTable {
     pub(crate) fn with_friction(mut self, f: Option<Friction>, dt: f64) -> Self {
         self.friction = f.map(|f| (f, dt));
         self.tangential_wall = match (f, self.wall_material) {
-            (Some(f), Some((young, poisson))) => (self.kinds.iter())
-                .map(|k| {
-                    Tangential::new(
-                        f.against_wall(k.friction),
-                        k.young,
-                        k.poisson,
-                        young,
-                        poisson,
-                    )
+            (Some(f), Some((young, poisson))) => (self.kinds.iter().zip(&self.wall))
+                .map(|(k, hertz)| {
+                    let mu = f.against_wall(k.friction);
+                    let t = Tangential::new(mu, k.young, k.poisson, young, poisson);
+                    TangentialLaw::of(t, hertz, dt)
                 })
                 .collect(),
             _ => vec![],
         };
         self.tangential_pair = match f {
-            Some(f) if self.kinds.len() <= MAX_TABLE_KINDS => (self.kinds.iter())
-                .flat_map(|a| {
-                    (self.kinds.iter()).map(move |b| {
+            Some(f) if self.kinds.len() <= MAX_TABLE_KINDS => {
+                let n = self.kinds.len();
+                (0..n * n)
+                    .map(|i| {
+                        let (a, b) = (&self.kinds[i / n], &self.kinds[i % n]);
                         let mu = f.pair(a.friction, b.friction);
-                        Tangential::new(mu, a.young, a.poisson, b.young, b.poisson)
+                        let t = Tangential::new(mu, a.young, a.poisson, b.young, b.poisson);
+                        TangentialLaw::of(t, &self.pair[i], dt)
                     })
-                })
-                .collect(),
+                    .collect()
+            }
             _ => vec![],
         };
         self
@@ -165,36 +190,47 @@ impl LawTable {
         self.friction.is_some()
     }
 
-    /// The tangential law of body `a` against the walls and the time step,
-    /// if that contact is frictional.
-    #[inline]
-    pub(crate) fn tangential_wall(&self, a: usize) -> Option<(Tangential, f64)> {
-        let (_, dt) = self.friction?;
-        let t = *self.tangential_wall.get(self.kind_of[a] as usize)?;
-        (t.mu > 0.0).then_some((t, dt))
+    /// The tangential law of body `a` against the walls, if that contact
+    /// is frictional (the table has friction).
+    #[inline(always)]
+    pub(crate) fn tangential_wall(&self, a: usize) -> Option<TangentialLaw> {
+        *self.tangential_wall.get(self.kind_of[a] as usize)?
     }
 
-    /// The tangential law of bodies `a` and `b` and the time step, if
-    /// their contact is frictional.
-    #[inline]
-    pub(crate) fn tangential_pair(&self, a: usize, b: usize) -> Option<(Tangential, f64)> {
-        let (f, dt) = self.friction?;
+    /// The Hertz law of bodies `a` and `b` ([`LawTable::pair`]) and their
+    /// tangential law if their contact is frictional (the table has
+    /// friction): one lookup of their kinds for both.
+    #[inline(always)]
+    pub(crate) fn pair_with_tangential(
+        &self,
+        a: usize,
+        b: usize,
+    ) -> (HertzLaw, Option<TangentialLaw>) {
         let (ka, kb) = (self.kind_of[a] as usize, self.kind_of[b] as usize);
-        let t = match self.tangential_pair.get(ka * self.kinds.len() + kb) {
-            Some(&t) => t,
-            None => self.tangential_computed(f, ka, kb),
-        };
-        (t.mu > 0.0).then_some((t, dt))
+        let i = ka * self.kinds.len() + kb;
+        match (self.pair.get(i), self.tangential_pair.get(i)) {
+            (Some(&law), Some(&t)) => (law, t),
+            _ => self.pair_with_tangential_computed(ka, kb),
+        }
     }
 
-    /// The tangential law of kinds `ka` and `kb` when the table was not
-    /// made.
+    /// [`LawTable::pair_with_tangential`] of kinds `ka` and `kb` when the
+    /// table was not made.
     #[cold]
     #[inline(never)]
-    fn tangential_computed(&self, f: Friction, ka: usize, kb: usize) -> Tangential {
+    fn pair_with_tangential_computed(
+        &self,
+        ka: usize,
+        kb: usize,
+    ) -> (HertzLaw, Option<TangentialLaw>) {
         let (a, b) = (self.kinds[ka], self.kinds[kb]);
-        let mu = f.pair(a.friction, b.friction);
-        Tangential::new(mu, a.young, a.poisson, b.young, b.poisson)
+        let law = pair_law(a, b);
+        let t = self.friction.and_then(|(f, dt)| {
+            let mu = f.pair(a.friction, b.friction);
+            let t = Tangential::new(mu, a.young, a.poisson, b.young, b.poisson);
+            TangentialLaw::of(t, &law, dt)
+        });
+        (law, t)
     }
 
     /// The damping constant of body pairs (0 when elastic).
@@ -344,18 +380,83 @@ mod tests {
             wall: 0.4,
         };
         let t = LawTable::new(&bodies, &materials, Some(&WALLS)).with_friction(Some(f), 1e-6);
-        let mu = |a, b| t.tangential_pair(a, b).map(|(t, _)| t.mu);
+        let mu = |a, b| t.pair_with_tangential(a, b).1.map(|t| t.law.mu);
         assert_eq!(mu(0, 1), Some(0.2));
         assert_eq!(mu(1, 0), Some(0.2));
         assert_eq!(mu(1, 1), Some(0.5));
         assert_eq!(mu(1, 2), Some(0.3));
         assert_eq!(mu(2, 2), Some(0.3));
         assert_eq!(mu(0, 3), None);
-        let wall = |a| t.tangential_wall(a).map(|(t, _)| t.mu);
+        let wall = |a| t.tangential_wall(a).map(|t| t.law.mu);
         assert_eq!(
             [wall(0), wall(1), wall(2), wall(3)],
             [Some(0.2), Some(0.4), Some(0.4), None]
         );
+    }
+
+    /// Reference: the tangential law of each body pair and each body–wall
+    /// contact built on its own (`Tangential::new` from the two materials,
+    /// the Hertz law from the two bodies), and its damping ratio `√(G*/E*)`
+    /// worked out as the law did per point, compared bit for bit: tabled
+    /// (four kinds of two materials and three diameters, whose `E*` differ)
+    /// and built per pair (more kinds than the table holds). (Mutant
+    /// tried: the ratio tabled with the walls' `E*`.)
+    #[test]
+    fn tabled_tangential_laws_are_the_per_pair_laws() {
+        let mut materials = vec![material(5e7, 0.35), material(2.1e9, 0.23)];
+        materials[1].friction = Some(0.5);
+        let few: Vec<Body> = [(0.01, 0), (0.003, 1), (0.01, 1), (0.001, 0)]
+            .iter()
+            .map(|&(d, m)| fibre(d, m))
+            .collect();
+        let many: Vec<Body> = (0..MAX_TABLE_KINDS + 3)
+            .map(|i| fibre(0.005 + 1e-4 * i as f64, (i % 2) as u32))
+            .collect();
+        let f = Friction {
+            body: 0.3,
+            wall: 0.4,
+        };
+        let dt = 1e-6;
+        for bodies in [few, many] {
+            let t = LawTable::new(&bodies, &materials, Some(&WALLS)).with_friction(Some(f), dt);
+            let bits = |t: &TangentialLaw| {
+                let l = t.law;
+                [l.mu, l.g_star, t.root_g_over_e, t.dt].map(f64::to_bits)
+            };
+            for (i, a) in bodies.iter().enumerate() {
+                let ma = &materials[a.material as usize];
+                let d = a.shape.diameter();
+                let wall =
+                    HertzLaw::fibre_wall(d, ma.young, ma.poisson, WALLS.young, WALLS.poisson);
+                let mu = f.against_wall(ma.friction);
+                let tan = Tangential::new(mu, ma.young, ma.poisson, WALLS.young, WALLS.poisson);
+                let expected = TangentialLaw {
+                    law: tan,
+                    root_g_over_e: (tan.g_star / wall.e_star).sqrt(),
+                    dt,
+                };
+                assert_eq!(
+                    t.tangential_wall(i).map(|t| bits(&t)),
+                    Some(bits(&expected))
+                );
+                for (j, b) in bodies.iter().enumerate() {
+                    let mb = &materials[b.material as usize];
+                    let db = b.shape.diameter();
+                    let hertz =
+                        HertzLaw::fibre_fibre(d, ma.young, ma.poisson, db, mb.young, mb.poisson);
+                    let mu = f.pair(ma.friction, mb.friction);
+                    let tan = Tangential::new(mu, ma.young, ma.poisson, mb.young, mb.poisson);
+                    let expected = TangentialLaw {
+                        law: tan,
+                        root_g_over_e: (tan.g_star / hertz.e_star).sqrt(),
+                        dt,
+                    };
+                    let (law, got) = t.pair_with_tangential(i, j);
+                    assert_eq!(law.e_star.to_bits(), hertz.e_star.to_bits());
+                    assert_eq!(got.map(|t| bits(&t)), Some(bits(&expected)), "{i} {j}");
+                }
+            }
+        }
     }
 
     /// Reference: the laws built for each pair and each body (as the stage
