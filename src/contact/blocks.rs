@@ -314,10 +314,7 @@ impl Sink for Block {
             #[cfg(feature = "mpi")]
             overlap,
         });
-        self.stats.note_overlap(overlap / d_a, a);
-        if let Some((b, d_b)) = b {
-            self.stats.note_overlap(overlap / d_b, b);
-        }
+        self.stats.note_contact_overlap(overlap, (a, d_a), b);
     }
 
     #[inline(always)]
@@ -420,6 +417,10 @@ trait Candidates<'l>: Sync {
     /// pass through both centres ([`torques`]).
     const CENTRAL: bool;
 
+    /// Whether every candidate of the list has at most one point, given by
+    /// [`Candidates::eval_one`] (no memory, no counts, no buffer).
+    const ONE_POINT: bool = false;
+
     /// Candidate `c` with its memory `m` through the kernels into `buf`
     /// (counted in `counters`): it touches if `buf` is not empty.
     fn eval(
@@ -429,6 +430,13 @@ trait Candidates<'l>: Sync {
         buf: &mut Vec<ContactPoint>,
         counters: &mut KernelCounters,
     );
+
+    /// Candidate `c`'s one point, if it touches (a list that is
+    /// [`Candidates::ONE_POINT`]; [`Candidates::eval`] gives the same).
+    #[inline(always)]
+    fn eval_one(&self, _c: &Self::Candidate) -> Option<ContactPoint> {
+        unreachable!("only a list that is ONE_POINT is asked for its one point")
+    }
 
     /// Touching candidate `c`'s law and bodies.
     fn touching(&self, c: &Self::Candidate) -> Touching<'l, Self::Keeping>;
@@ -597,24 +605,32 @@ impl<'l, K: PairKernel, F: Keeping, S: Kinds> Candidates<'l> for PairList<'_, 'l
     type Keeping = F;
     /// Sphere pairs' contacts are central.
     const CENTRAL: bool = S::SPHERES;
+    /// Sphere pairs: the dispatch's sphere–sphere arm, decided for the
+    /// whole list (a replay still answers every pair itself).
+    const ONE_POINT: bool = S::SPHERES && !K::ONE_THREAD;
 
     #[inline(always)]
     fn eval(
         &self,
-        &(a, b): &(u32, u32),
+        c: &(u32, u32),
         memory: &mut PairMemory,
         buf: &mut Vec<ContactPoint>,
         counters: &mut KernelCounters,
     ) {
-        let (a, b) = (a as usize, b as usize);
-        if S::SPHERES && !K::ONE_THREAD {
-            // The dispatch's sphere–sphere arm, decided for the whole list
-            // (a replay still answers every pair itself).
-            return sphere_pair(&self.scene.sphere(a), &self.scene.sphere(b), buf);
+        if Self::ONE_POINT {
+            buf.extend(self.eval_one(c));
+            return;
         }
+        let (a, b) = (c.0 as usize, c.1 as usize);
         let motion = f64::from(self.motion[a]) + f64::from(self.motion[b]);
         let (ca, cb) = (self.scene.collider(a), self.scene.collider(b));
         self.kernel.contacts(ca, cb, buf, counters, memory, motion);
+    }
+
+    #[inline(always)]
+    fn eval_one(&self, &(a, b): &(u32, u32)) -> Option<ContactPoint> {
+        let (a, b) = (a as usize, b as usize);
+        sphere_pair(&self.scene.sphere(a), &self.scene.sphere(b))
     }
 
     #[inline(always)]
@@ -701,16 +717,21 @@ fn each_candidate<'l, C: Candidates<'l>>(
     let mut cursor = 0;
     let mut records = Recalled::new();
     for (k, (c, m)) in candidates.iter().zip(memory).enumerate() {
+        if C::ONE_POINT {
+            // The point by value, never through the buffer.
+            if let Some(p) = list.eval_one(c) {
+                one_point(list, c, &list.touching(c), &p, &mut cursor, sink);
+                sink.touched(k);
+            }
+            continue;
+        }
         buf.clear();
         list.eval(c, m, buf, counters);
         if !buf.is_empty() {
             let t = list.touching(c);
-            if let ([p], true) = (&buf[..], t.law.keeps_history()) {
+            if let [p] = &buf[..] {
                 // One point (most contacts): its record without gathering.
-                let mut record = list.recall_one(c, p, &mut cursor);
-                let load = t.law.load(p, &mut record);
-                sink.point(&load, p.overlap, t.a, t.b, true);
-                sink.keep((list.key(c, 0, p), record), load.spring);
+                one_point(list, c, &t, p, &mut cursor, sink);
             } else if t.law.keeps_history() {
                 records.clear();
                 list.recall(c, buf, &mut cursor, &mut records);
@@ -727,6 +748,29 @@ fn each_candidate<'l, C: Candidates<'l>>(
             }
             sink.touched(k);
         }
+    }
+}
+
+/// The loads of touching candidate `c`'s one point `p` (its law and
+/// bodies `t`) into `sink`, with its record (a law that keeps them: found
+/// from `cursor` without gathering, and kept).
+#[inline(always)]
+fn one_point<'l, C: Candidates<'l>>(
+    list: &C,
+    c: &C::Candidate,
+    t: &Touching<'l, C::Keeping>,
+    p: &ContactPoint,
+    cursor: &mut usize,
+    sink: &mut impl Sink,
+) {
+    if t.law.keeps_history() {
+        let mut record = list.recall_one(c, p, cursor);
+        let load = t.law.load(p, &mut record);
+        sink.point(&load, p.overlap, t.a, t.b, true);
+        sink.keep((list.key(c, 0, p), record), load.spring);
+    } else {
+        let load = t.law.load(p, &mut Record::default());
+        sink.point(&load, p.overlap, t.a, t.b, torques::<C>());
     }
 }
 
@@ -842,10 +886,7 @@ impl Sink for Sums<'_> {
             }
         }
         self.stats.elastic += load.elastic;
-        self.stats.note_overlap(overlap / d_a, a);
-        if let Some((b, d_b)) = b {
-            self.stats.note_overlap(overlap / d_b, b);
-        }
+        self.stats.note_contact_overlap(overlap, (a, d_a), b);
     }
 
     #[inline(always)]

@@ -8,7 +8,7 @@
 
 use super::{
     contact_fibre_fibre_remembering, contact_fibre_sphere, contact_fibre_wall,
-    contact_sphere_fibre, contact_sphere_sphere, contact_sphere_wall, ContactPoint, FibreGeom,
+    contact_sphere_fibre, contact_sphere_wall, sphere_sphere_point, ContactPoint, FibreGeom,
     KernelCounters, PairMemory, SphereGeom, Wall,
 };
 
@@ -57,7 +57,11 @@ pub fn contacts_remembering(
         (Collider::Sphere(s), Collider::Fibre(f)) => {
             contact_sphere_fibre(&s, f, out);
         }
-        (Collider::Sphere(a), Collider::Sphere(b)) => sphere_pair(&a, &b, out),
+        (Collider::Sphere(a), Collider::Sphere(b)) => {
+            if let Some(p) = sphere_pair(&a, &b) {
+                out.push(p);
+            }
+        }
         (Collider::Fibre(f), Collider::Wall(w)) => contact_fibre_wall(f, w, out),
         (Collider::Sphere(s), Collider::Wall(w)) => contact_sphere_wall(&s, w, out),
         // The same contacts seen from the wall: forces and the weights'
@@ -77,12 +81,13 @@ pub fn contacts_remembering(
     }
 }
 
-/// The sphere–sphere arm: also called directly by a candidate list known
-/// to hold sphere pairs only (the candidate loop's `Spheres`), where the
-/// match is decided once for the whole list.
+/// The sphere–sphere arm's point, if the spheres overlap: also called
+/// directly by a candidate list known to hold sphere pairs only (the
+/// candidate loop's `Spheres`), where the match is decided once for the
+/// whole list and the point is taken by value.
 #[inline(always)]
-pub fn sphere_pair(a: &SphereGeom, b: &SphereGeom, out: &mut Vec<ContactPoint>) {
-    contact_sphere_sphere(a, b, out);
+pub fn sphere_pair(a: &SphereGeom, b: &SphereGeom) -> Option<ContactPoint> {
+    sphere_sphere_point(a, b)
 }
 
 /// Contacts seen from the other side: every force and weight couple

@@ -57,7 +57,7 @@ pub use sphere_fibre::{
     contact_fibre_sphere, contact_sphere_fibre, sphere_fibre_depth, SphereFibreDepth,
     SphereFibreFeature,
 };
-pub use sphere_sphere::contact_sphere_sphere;
+pub use sphere_sphere::{contact_sphere_sphere, sphere_sphere_point};
 pub use sphere_wall::contact_sphere_wall;
 pub use walls::{box_walls, Wall, Walls};
 

@@ -14,22 +14,32 @@ use glam::DVec3;
 /// one point, weight 1, normal = the direction of the force on `a`.
 #[inline]
 pub fn contact_sphere_sphere(a: &SphereGeom, b: &SphereGeom, out: &mut Vec<ContactPoint>) {
+    if let Some(p) = sphere_sphere_point(a, b) {
+        out.push(p);
+    }
+}
+
+/// The contact point of sphere `a` with sphere `b`, if they overlap (the
+/// one point [`contact_sphere_sphere`] appends): returned by value, so a
+/// loop over sphere pairs keeps it out of the kernels' buffer.
+#[inline(always)]
+pub fn sphere_sphere_point(a: &SphereGeom, b: &SphereGeom) -> Option<ContactPoint> {
     let reach = a.radius + b.radius;
     let w = a.centre - b.centre;
     let d2 = w.length_squared();
     if d2 >= reach * reach {
-        return;
+        return None;
     }
     let d = d2.sqrt();
     let normal = if d > 0.0 { w / d } else { DVec3::X };
     let overlap = reach - d;
-    out.push(ContactPoint {
+    Some(ContactPoint {
         point: b.centre + (b.radius - 0.5 * overlap) * normal,
         normal,
         overlap,
         weight: 1.0,
         weight_grad: DVec3::ZERO,
-    });
+    })
 }
 
 #[cfg(test)]

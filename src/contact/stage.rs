@@ -501,6 +501,27 @@ impl ContactStats {
             self.max_overlap_body = body;
         }
     }
+
+    /// A contact's overlap on its body A and its body B (none for a wall),
+    /// each `(index, diameter)`: as [`ContactStats::note_overlap`] of
+    /// `δ/D_A` on A, then of `δ/D_B` on B. B's ratio is taken only when
+    /// B is the thinner: else it is no larger than A's (a rounded division
+    /// is monotone in its divisor), which has just been noted, and a tie
+    /// keeps the first.
+    #[inline(always)]
+    pub(crate) fn note_contact_overlap(
+        &mut self,
+        overlap: f64,
+        (a, d_a): (usize, f64),
+        b: Option<(usize, f64)>,
+    ) {
+        self.note_overlap(overlap / d_a, a);
+        if let Some((b, d_b)) = b {
+            if d_b < d_a {
+                self.note_overlap(overlap / d_b, b);
+            }
+        }
+    }
 }
 
 /// The hooks of an MPI rank's force stage (`src/ranks/`): the rank lists
