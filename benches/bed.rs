@@ -98,12 +98,11 @@ fn lattice(n: usize) -> Scene {
         seed ^= seed << 17;
         (seed >> 11) as f64 / (1u64 << 53) as f64
     };
-    scene.bodies.clear();
+    scene.bodies = fibresim::body::Bodies::uniform(template, n);
     scene.initial.clear();
     scene.names.clear();
     // Exact sizes, as the loader's (a body file's tables are moved in
     // whole): pushes would leave up to 2× capacity.
-    scene.bodies.reserve_exact(n);
     scene.initial.reserve_exact(n);
     for k in 0..n {
         let (i, j, z) = (k % side, (k / side) % side, k / (side * side));
@@ -112,7 +111,6 @@ fn lattice(n: usize) -> Scene {
         let q = glam::DQuat::from_rotation_arc(glam::DVec3::X, axis);
         // No name, as for the bodies of a body file (`Scene::name` gives
         // `body<id>`): a String per body is not what a bed costs.
-        scene.bodies.push(template);
         scene.initial.push(fibresim::body::BodyState {
             x: glam::DVec3::new(c(i), c(j), c(z)),
             v: glam::DVec3::ZERO,

@@ -37,7 +37,7 @@ fn lattice(n: usize) -> Scene {
         (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
     };
     let (body, state) = (scene.bodies[0], scene.initial[0]);
-    scene.bodies = vec![body; n];
+    scene.bodies = fibresim::body::Bodies::uniform(body, n);
     scene.names = (0..n).map(|i| format!("f{i}")).collect();
     scene.ids = fibresim::scenario::Ids::Sequential(n);
     scene.initial = (0..n)

@@ -210,3 +210,324 @@ pub struct BodyState {
     /// Orientation and spin.
     pub rot: RotState,
 }
+
+/// The constants of a scene's bodies, by storage index, kept once per
+/// distinct value: a table of the distinct [`Body`] values in order of
+/// first appearance and each body's entry in it (one entry for all while
+/// every body is the same, as in a bed of identical fibres). Two bodies
+/// share an entry when every number of theirs has the same bits.
+#[derive(Debug, Clone, Default)]
+pub struct Bodies {
+    /// The distinct values.
+    kinds: Vec<Body>,
+    /// Body `i`'s entry in `kinds` is `kind_of[i & mask]`: one entry (0)
+    /// standing for every body while there is one value (`mask` 0), one
+    /// per body once there are more (`mask` all ones); read without a
+    /// branch.
+    kind_of: Vec<u32>,
+    mask: usize,
+    /// Number of bodies.
+    len: usize,
+    /// The entry of each value, for [`Bodies::push`]; rebuilt on demand
+    /// (empty after [`Bodies::shrink_to_fit`]).
+    lookup: std::collections::HashMap<BodyBits, u32>,
+}
+
+/// Every number of a [`Body`], as bits (its identity in [`Bodies`]).
+type BodyBits = [u64; 13];
+
+impl Body {
+    fn bits(&self) -> BodyBits {
+        let (tag, s) = match self.shape {
+            Shape::Fibre { diameter, length } => (0, [diameter, length, 0.0]),
+            Shape::Sphere { diameter } => (1, [diameter, 0.0, 0.0]),
+            Shape::Rigid { semi_axes } => (2, semi_axes.to_array()),
+        };
+        let (p, i) = (self.inertia.principal, self.inertia.inverse);
+        let f = [
+            s[0],
+            s[1],
+            s[2],
+            self.mass,
+            self.inv_mass,
+            p.x,
+            p.y,
+            p.z,
+            i.x,
+            i.y,
+            i.z,
+        ];
+        let mut out = [0; 13];
+        out[0] = tag;
+        out[1] = u64::from(self.material);
+        for (o, x) in out[2..].iter_mut().zip(f) {
+            *o = x.to_bits();
+        }
+        out
+    }
+}
+
+impl Bodies {
+    /// No bodies.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// `n` bodies all equal to `body`.
+    pub fn uniform(body: Body, n: usize) -> Self {
+        let mut b = Self::new();
+        if n > 0 {
+            b.push(body);
+            b.len = n;
+        }
+        b
+    }
+
+    /// Number of bodies.
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether there are none.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Body `i`'s constants (panics if `i >= len`).
+    #[inline(always)]
+    pub fn get(&self, i: usize) -> &Body {
+        &self.kinds[self.kind(i)]
+    }
+
+    /// Body `i`'s entry in [`Bodies::kinds`] (panics if `i >= len`).
+    #[inline(always)]
+    pub fn kind(&self, i: usize) -> usize {
+        assert!(i < self.len, "a body past the end");
+        self.kind_of[i & self.mask] as usize
+    }
+
+    /// The distinct values, in order of first appearance.
+    pub fn kinds(&self) -> &[Body] {
+        &self.kinds
+    }
+
+    /// Every body's constants, in storage order.
+    pub fn iter(&self) -> Iter<'_> {
+        Iter {
+            kinds: &self.kinds,
+            kind_of: &self.kind_of,
+            mask: self.mask,
+            next: 0..self.len,
+        }
+    }
+
+    /// Every body's constants, in storage order, for the pool.
+    pub fn par_iter(&self) -> impl rayon::iter::IndexedParallelIterator<Item = &Body> + '_ {
+        use rayon::prelude::*;
+        (0..self.len).into_par_iter().map(move |i| self.get(i))
+    }
+
+    /// Appends a body (sharing the entry of an equal one).
+    pub fn push(&mut self, body: Body) {
+        if self.lookup.len() != self.kinds.len() {
+            self.lookup = (self.kinds.iter().enumerate())
+                .map(|(k, b)| (b.bits(), k as u32))
+                .collect();
+        }
+        let next = self.kinds.len() as u32;
+        let k = *self.lookup.entry(body.bits()).or_insert(next);
+        if k == next {
+            self.kinds.push(body);
+            match self.kinds.len() {
+                1 => self.kind_of = vec![0],
+                // The first other value: from here on each body has its entry.
+                2 => {
+                    self.kind_of = vec![0; self.len];
+                    self.mask = usize::MAX;
+                }
+                _ => {}
+            }
+        }
+        if self.mask != 0 {
+            self.kind_of.push(k);
+        }
+        self.len += 1;
+    }
+
+    /// These bodies `copies` times over, one copy after the other.
+    pub fn repeat(&self, copies: usize) -> Self {
+        let mut out = self.clone();
+        out.len = self.len * copies;
+        if self.mask != 0 {
+            out.kind_of = self.kind_of.repeat(copies);
+        }
+        out
+    }
+
+    /// Releases spare capacity and the lookup of [`Bodies::push`] (rebuilt
+    /// if more are pushed).
+    pub fn shrink_to_fit(&mut self) {
+        self.kinds.shrink_to_fit();
+        self.kind_of.shrink_to_fit();
+        self.lookup = Default::default();
+    }
+}
+
+impl PartialEq for Bodies {
+    fn eq(&self, other: &Self) -> bool {
+        self.len == other.len && self.iter().eq(other.iter())
+    }
+}
+
+impl std::ops::Index<usize> for Bodies {
+    type Output = Body;
+    #[inline(always)]
+    fn index(&self, i: usize) -> &Body {
+        self.get(i)
+    }
+}
+
+impl FromIterator<Body> for Bodies {
+    fn from_iter<I: IntoIterator<Item = Body>>(iter: I) -> Self {
+        let mut b = Self::new();
+        b.extend(iter);
+        b.shrink_to_fit();
+        b
+    }
+}
+
+impl Extend<Body> for Bodies {
+    fn extend<I: IntoIterator<Item = Body>>(&mut self, iter: I) {
+        for body in iter {
+            self.push(body);
+        }
+    }
+}
+
+impl<'a> IntoIterator for &'a Bodies {
+    type Item = &'a Body;
+    type IntoIter = Iter<'a>;
+    fn into_iter(self) -> Iter<'a> {
+        self.iter()
+    }
+}
+
+/// The bodies' constants in storage order ([`Bodies::iter`]).
+#[derive(Clone)]
+pub struct Iter<'a> {
+    kinds: &'a [Body],
+    kind_of: &'a [u32],
+    mask: usize,
+    next: std::ops::Range<usize>,
+}
+
+impl<'a> Iter<'a> {
+    #[inline(always)]
+    fn at(&self, i: usize) -> &'a Body {
+        &self.kinds[self.kind_of[i & self.mask] as usize]
+    }
+}
+
+impl<'a> Iterator for Iter<'a> {
+    type Item = &'a Body;
+    #[inline(always)]
+    fn next(&mut self) -> Option<&'a Body> {
+        self.next.next().map(|i| self.at(i))
+    }
+    #[inline]
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        self.next.size_hint()
+    }
+}
+
+impl ExactSizeIterator for Iter<'_> {}
+
+impl<'a> DoubleEndedIterator for Iter<'a> {
+    fn next_back(&mut self) -> Option<&'a Body> {
+        self.next.next_back().map(|i| self.at(i))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fibre(length: f64, material: MaterialId) -> Body {
+        let shape = Shape::Fibre {
+            diameter: 0.01,
+            length,
+        };
+        Body::new(shape, material, 1100.0)
+    }
+
+    /// Reference: the same bodies in a plain `Vec`, read back one by one.
+    #[test]
+    fn equal_bodies_share_an_entry_and_each_reads_back_its_own() {
+        let sphere = Body::new(Shape::Sphere { diameter: 0.01 }, 0, 1100.0);
+        let rigid = Body::rigid(2.0, DVec3::new(1.0, 1.5, 2.0), 1);
+        let list = [
+            fibre(0.03, 0),
+            fibre(0.03, 0),
+            fibre(0.03, 1),
+            sphere,
+            fibre(0.03, 0),
+            fibre(0.030000000000000002, 0),
+            rigid,
+            sphere,
+        ];
+        let b: Bodies = list.iter().copied().collect();
+        assert_eq!((b.len(), b.kinds().len()), (list.len(), 5));
+        for (i, want) in list.iter().enumerate() {
+            assert_eq!(b.get(i), want);
+            assert_eq!(&b[i], want);
+        }
+        assert!(b.iter().eq(list.iter()));
+        assert!(b.iter().rev().eq(list.iter().rev()));
+        assert_eq!(b.iter().len(), list.len());
+        assert_eq!(b.kind(4), b.kind(0));
+        assert_ne!(b.kind(5), b.kind(0));
+        // Pushing after the lookup was dropped finds the old entries.
+        let mut more = b.clone();
+        more.push(sphere);
+        more.push(fibre(0.04, 0));
+        assert_eq!(more.kinds().len(), 6);
+        assert_eq!(more.kind(8), b.kind(3));
+        assert_eq!(more[9], fibre(0.04, 0));
+    }
+
+    #[test]
+    fn bodies_all_alike_keep_one_value_and_nothing_per_body() {
+        let b: Bodies = std::iter::repeat_n(fibre(0.03, 0), 1000).collect();
+        assert_eq!((b.len(), b.kinds().len(), b.kind_of.len()), (1000, 1, 1));
+        assert_eq!(b, Bodies::uniform(fibre(0.03, 0), 1000));
+        assert_ne!(b, Bodies::uniform(fibre(0.03, 0), 999));
+        assert_ne!(b, Bodies::uniform(fibre(0.03, 1), 1000));
+        // A second value gives every body its entry.
+        let mut two = b.clone();
+        two.push(fibre(0.05, 0));
+        assert_eq!(
+            (two.kind_of.len(), two.kind(999), two.kind(1000)),
+            (1001, 0, 1)
+        );
+        assert_eq!(two[1000], fibre(0.05, 0));
+    }
+
+    #[test]
+    #[should_panic(expected = "a body past the end")]
+    fn a_body_past_the_end_is_refused() {
+        let _ = Bodies::uniform(fibre(0.03, 0), 3)[3];
+    }
+
+    #[test]
+    fn repeat_is_the_copies_one_after_the_other() {
+        let list = [fibre(0.03, 0), fibre(0.02, 0), fibre(0.03, 0)];
+        let b: Bodies = list.iter().copied().collect();
+        let want: Vec<Body> = (0..4).flat_map(|_| list).collect();
+        assert!(b.repeat(4).iter().eq(want.iter()));
+        assert_eq!(b.repeat(4), want.into_iter().collect());
+        let one = Bodies::uniform(list[0], 5).repeat(3);
+        assert_eq!((one.len(), one.kind_of.len()), (15, 1));
+    }
+}

@@ -1,6 +1,6 @@
 //! Energy ledger with named terms (docs/physics.md §5, paper Eq. 64–65).
 
-use crate::body::{Body, BodyState};
+use crate::body::{Bodies, Body, BodyState};
 use glam::DVec3;
 
 /// Energy terms of the whole system at one instant, J.
@@ -28,7 +28,7 @@ pub struct Ledger {
 impl Ledger {
     /// The ledger of `states`, with the contacts' elastic energy.
     pub fn measure(
-        bodies: &[Body],
+        bodies: &Bodies,
         states: &[BodyState],
         gravity: Option<DVec3>,
         elastic: f64,
@@ -38,8 +38,8 @@ impl Ledger {
             ..Ledger::default()
         };
         let g = gravity.unwrap_or(DVec3::ZERO);
-        for (b, s) in bodies.iter().zip(states) {
-            l.add_body(b, s, g);
+        for (i, s) in states.iter().enumerate() {
+            l.add_body(&bodies[i], s, g);
         }
         l
     }

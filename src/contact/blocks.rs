@@ -1405,7 +1405,7 @@ mod tests {
             poisson: 0.35,
             friction: None,
         };
-        let bodies: Vec<_> = (0..12)
+        let bodies: crate::body::Bodies = (0..12)
             .map(|i| {
                 let shape = crate::body::Shape::Fibre {
                     diameter: if i % 2 == 0 { 0.01 } else { 0.007 },
@@ -1461,7 +1461,8 @@ mod tests {
     /// candidates in order, each point's loads (by the law) added at once.
     fn serial(n: usize) -> Vec<Vec<u64>> {
         let (table, centres) = fibres();
-        let laws = Laws::<Frictionless>::new(&table, &[], &[]);
+        let none = crate::body::Bodies::new();
+        let laws = Laws::<Frictionless>::new(&table, &none, &[]);
         let side = |i: usize| Side {
             index: i,
             centre: centres[i],
@@ -1564,7 +1565,8 @@ mod tests {
     /// candidate was computed.
     fn ordered(n: usize, threads: usize, size: usize) -> (Vec<Vec<u64>>, Vec<u32>) {
         let (table, centres) = fibres();
-        let laws = Laws::<Frictionless>::new(&table, &[], &[]);
+        let none = crate::body::Bodies::new();
+        let laws = Laws::<Frictionless>::new(&table, &none, &[]);
         let candidates: Vec<u32> = (0..n as u32).collect();
         let mut computed = vec![0u32; n];
         let mut ring: Ring = vec![];

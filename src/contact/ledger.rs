@@ -36,7 +36,7 @@
 //! per-body loads are zeroed by every computation and `first` is false once
 //! step 0's forces exist. `src/output/checkpoint.rs` stores exactly these.
 
-use crate::body::{Body, BodyState};
+use crate::body::{Bodies, Body, BodyState};
 use glam::DVec3;
 
 /// The non-conservative loads of a contact stage per body, and the energy
@@ -110,7 +110,7 @@ impl WorkLedger {
     /// the full work (module docs).
     pub(crate) fn account(
         &mut self,
-        bodies: &[Body],
+        bodies: &Bodies,
         states: &[BodyState],
         loads: (&[DVec3], &[DVec3]),
     ) {
@@ -133,7 +133,7 @@ impl WorkLedger {
     #[inline(always)]
     fn work(
         &self,
-        bodies: &[Body],
+        bodies: &Bodies,
         states: &[BodyState],
         (force, torque): (&[DVec3], &[DVec3]),
     ) -> (f64, f64) {

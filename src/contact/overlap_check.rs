@@ -15,7 +15,7 @@
 
 use super::shape::{collider, geom, kinds};
 use super::{box_walls, contacts, Collider, FibreGeom, KernelCounters, Walls};
-use crate::body::{Body, BodyState};
+use crate::body::{Bodies, BodyState};
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -27,7 +27,7 @@ pub(crate) type Overlap = (usize, Option<usize>, f64);
 /// overlap when `tolerance` is 0) among `bodies` at `states` and the box
 /// `walls`, in the order described in the module docs.
 pub(crate) fn first_overlap(
-    bodies: &[Body],
+    bodies: &Bodies,
     states: &[BodyState],
     walls: Option<&Walls>,
     tolerance: f64,
@@ -205,12 +205,12 @@ impl Grid {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::body::{RotState, Shape};
+    use crate::body::{Body, RotState, Shape};
     use glam::DQuat;
 
     /// The O(N²) check this replaces: every wall, then every pair in order.
     fn brute_force(
-        bodies: &[Body],
+        bodies: &Bodies,
         states: &[BodyState],
         walls: Option<&Walls>,
         tol: f64,
@@ -255,9 +255,9 @@ mod tests {
         }
     }
 
-    fn scene(n: usize, side: f64, seed: u64) -> (Vec<Body>, Vec<BodyState>) {
+    fn scene(n: usize, side: f64, seed: u64) -> (Bodies, Vec<BodyState>) {
         let mut r = Rng(seed);
-        let mut bodies = vec![];
+        let mut bodies = Bodies::new();
         let mut states = vec![];
         for k in 0..n {
             let d = 0.005 + 0.01 * r.next();

@@ -12,7 +12,7 @@
 //! dispatch which kernel reads the record.
 
 use super::{Collider, FibreGeom, SphereGeom};
-use crate::body::{Body, BodyState, Shape};
+use crate::body::{Bodies, Body, BodyState, Shape};
 
 /// The kind of a body's collider. A new shape is one variant here, its
 /// record in [`geom`], its [`collider`] arm and its kernels' arms in
@@ -82,7 +82,7 @@ pub fn collider(kind: ColliderKind, g: &FibreGeom) -> Collider<'_> {
 }
 
 /// The collider kind of every body of a contact scene, by storage index.
-pub fn kinds(bodies: &[Body]) -> Vec<ColliderKind> {
+pub fn kinds(bodies: &Bodies) -> Vec<ColliderKind> {
     bodies
         .iter()
         .map(|b| {

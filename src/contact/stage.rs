@@ -20,7 +20,7 @@ use super::memory::{entries, Entry};
 pub use super::shape::geom;
 use super::shape::{collider, kinds, ColliderKind};
 use super::{box_walls, contacts, Collider, FibreGeom, KernelCounters, Wall, Walls};
-use crate::body::{Body, BodyState, Material};
+use crate::body::{Bodies, BodyState, Material};
 use glam::DVec3;
 
 /// What the last force computation saw.
@@ -120,7 +120,7 @@ pub fn motion_bound(old: &FibreGeom, new: &FibreGeom) -> f32 {
 impl ContactStage {
     /// The stage of `bodies` (made of `materials`) in the box `walls`, if
     /// any: the Hertz laws of every pair of contact kinds are built here.
-    pub fn new(bodies: &[Body], materials: &[Material], walls: Option<&Walls>) -> Self {
+    pub fn new(bodies: &Bodies, materials: &[Material], walls: Option<&Walls>) -> Self {
         let thinnest = bodies
             .iter()
             .map(|b| b.shape.diameter())
@@ -258,7 +258,7 @@ impl ContactStage {
     /// list and gives each pair its memory, and sees no motion. Each
     /// memory left out (a fresh one) is made again by that computation's
     /// scan, as the run that wrote the checkpoint made it at this state.
-    pub fn restore_memory(&mut self, memory: Vec<Entry>, bodies: &[Body], states: &[BodyState]) {
+    pub fn restore_memory(&mut self, memory: Vec<Entry>, bodies: &Bodies, states: &[BodyState]) {
         self.geoms.clear();
         self.geoms
             .extend(bodies.iter().zip(states).map(|(b, s)| geom(b, s)));
@@ -311,7 +311,7 @@ impl ContactStage {
     /// built by [`ContactStage::new`].
     pub fn compute(
         &mut self,
-        bodies: &[Body],
+        bodies: &Bodies,
         states: &[BodyState],
         force: &mut [DVec3],
         torque: &mut [DVec3],
@@ -334,7 +334,7 @@ impl ContactStage {
     #[inline(always)]
     fn candidates<F: Keeping>(
         &mut self,
-        bodies: &[Body],
+        bodies: &Bodies,
         states: &[BodyState],
         force: &mut [DVec3],
         torque: &mut [DVec3],
@@ -365,7 +365,7 @@ impl ContactStage {
     /// rebuilt if a body left its skin. One thread updates only the
     /// bodies in a candidate while the list holds (the others' geometry is
     /// not read); the pool tests and updates every body in one pass.
-    fn update_geometry(&mut self, bodies: &[Body], states: &[BodyState], pool: bool) {
+    fn update_geometry(&mut self, bodies: &Bodies, states: &[BodyState], pool: bool) {
         use rayon::prelude::*;
         let spheres = self.spheres;
         self.geoms.resize(bodies.len(), FibreGeom::default());
@@ -410,9 +410,9 @@ impl ContactStage {
                     }
                 }
             } else {
-                let each = self.geoms.iter_mut().zip(&mut self.motion);
-                for ((g, m), (b, s)) in each.zip(bodies.iter().zip(states)) {
-                    update(g, m, geom(b, s), spheres);
+                let each = self.geoms.iter_mut().zip(&mut self.motion).zip(states);
+                for (i, ((g, m), s)) in each.enumerate() {
+                    update(g, m, geom(&bodies[i], s), spheres);
                 }
             }
             valid
@@ -532,7 +532,12 @@ impl ContactStats {
 impl ContactStage {
     /// Body `i`'s motion bound from its geometry at the last computation
     /// to `state` (the one-process stage's, for the rank that owns it).
-    pub(crate) fn motion_since_last(&self, i: usize, body: &Body, state: &BodyState) -> f32 {
+    pub(crate) fn motion_since_last(
+        &self,
+        i: usize,
+        body: &crate::body::Body,
+        state: &BodyState,
+    ) -> f32 {
         motion_bound(&self.geoms[i], &geom(body, state))
     }
 
@@ -574,7 +579,7 @@ impl ContactStage {
     pub(crate) fn body_work(
         &self,
         i: usize,
-        b: &Body,
+        b: &crate::body::Body,
         s: &BodyState,
         loads: (DVec3, DVec3),
     ) -> Option<[f64; 2]> {
@@ -613,7 +618,7 @@ impl ContactStage {
         list: &mut NeighbourList,
         local: &[u32],
         motion: &[f32],
-        bodies: &[Body],
+        bodies: &Bodies,
         states: &[BodyState],
         force: &mut [DVec3],
         torque: &mut [DVec3],
@@ -639,7 +644,7 @@ impl ContactStage {
     fn listed<F: Keeping>(
         &mut self,
         list: &mut NeighbourList,
-        bodies: &[Body],
+        bodies: &Bodies,
         states: &[BodyState],
         force: &mut [DVec3],
         torque: &mut [DVec3],
@@ -728,7 +733,7 @@ mod tests {
             seed ^= seed << 17;
             2.0 * ((seed >> 11) as f64 / (1u64 << 53) as f64) - 1.0
         };
-        scene.bodies.clear();
+        scene.bodies = Default::default();
         scene.initial.clear();
         for i in 0..nx {
             for j in 0..ny {
@@ -764,7 +769,7 @@ mod tests {
     /// `states`, on a pool of `threads`.
     fn on_pool(
         stage: &mut ContactStage,
-        bodies: &[Body],
+        bodies: &Bodies,
         states: &[BodyState],
         threads: usize,
     ) -> (Vec<[u64; 6]>, ContactStats, u64) {
@@ -794,7 +799,7 @@ mod tests {
     /// them).
     fn plain_loop(
         stage: &mut ContactStage,
-        bodies: &[Body],
+        bodies: &Bodies,
         states: &[BodyState],
     ) -> (Vec<[u64; 6]>, ContactStats, u64) {
         stage.update_geometry(bodies, states, false);

@@ -114,7 +114,7 @@ pub fn generate(o: &GenerateOptions) -> Result<GenerateReport> {
             ),
         )
     })?;
-    let mut bodies = Vec::with_capacity(layout.bodies.len());
+    let mut bodies = crate::body::Bodies::new();
     let mut states = Vec::with_capacity(layout.bodies.len());
     let mut volume = 0.0;
     for p in &layout.bodies {

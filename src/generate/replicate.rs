@@ -86,14 +86,13 @@ pub fn replicated(scene: &Scene, times: [usize; 3]) -> Result<Scene> {
         max: walls.min + span * DVec3::new(times[0] as f64, times[1] as f64, times[2] as f64),
         ..walls.clone()
     });
-    out.bodies = Vec::with_capacity(copies * n);
+    out.bodies = scene.bodies.repeat(copies);
     out.initial = Vec::with_capacity(copies * n);
     out.names = vec![];
     for k in 0..times[2] {
         for j in 0..times[1] {
             for i in 0..times[0] {
                 let shift = span * DVec3::new(i as f64, j as f64, k as f64);
-                out.bodies.extend_from_slice(&scene.bodies);
                 out.initial.extend(scene.initial.iter().map(|s| BodyState {
                     x: s.x + shift,
                     ..*s
@@ -137,7 +136,7 @@ pub fn replicate(scene: &Scene, o: &ReplicateOptions) -> Result<ReplicateReport>
     )?;
     let walls = big.walls.expect("replicated beds have a box");
     let [nx, ny, nz] = o.times;
-    let census = |bodies: &[crate::body::Body]| {
+    let census = |bodies: &crate::body::Bodies| {
         let spheres = bodies
             .iter()
             .filter(|b| matches!(b.shape, crate::body::Shape::Sphere { .. }))

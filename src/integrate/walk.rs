@@ -11,7 +11,7 @@
 //!   order, on the calling thread.
 
 use super::rotate::AuxState;
-use crate::body::{Body, BodyState};
+use crate::body::{Bodies, Body, BodyState};
 use crate::scenario::scene::{prescribed_on, Prescribed};
 use crate::torque::PrescribedTorque;
 use glam::DVec3;
@@ -22,7 +22,7 @@ use rayon::prelude::*;
 /// prescribed torques (sparse, sorted by body).
 #[derive(Clone, Copy)]
 pub(crate) struct Inputs<'a> {
-    pub bodies: &'a [Body],
+    pub bodies: &'a Bodies,
     pub force: &'a [DVec3],
     pub torque: &'a [DVec3],
     pub prescribed: &'a [Prescribed],
@@ -55,10 +55,10 @@ impl<'a> Inputs<'a> {
     /// Every body's, in order (the prescribed torques walked alongside).
     #[inline(always)]
     fn iter(&self) -> impl Iterator<Item = Input<'a>> + 'a {
-        let each = self.bodies.iter().zip(self.force).zip(self.torque);
+        let (bodies, each) = (self.bodies, self.force.iter().zip(self.torque));
         let (list, mut next) = (self.prescribed, 0);
         let any = !list.is_empty();
-        each.enumerate().map(move |(i, ((body, &force), &torque))| {
+        each.enumerate().map(move |(i, (&force, &torque))| {
             let prescribed = if any {
                 list.get(next).filter(|p| p.body == i).map(|p| {
                     next += 1;
@@ -68,7 +68,7 @@ impl<'a> Inputs<'a> {
                 None
             };
             Input {
-                body,
+                body: &bodies[i],
                 force,
                 torque,
                 prescribed,
@@ -183,8 +183,8 @@ impl Walk for Pool {
                 })
                 .min_by_key(|&(i, _)| i)
         };
-        for (i, (s, body)) in states.iter().zip(inputs.bodies).enumerate() {
-            then(i, body, s);
+        for (i, s) in states.iter().enumerate() {
+            then(i, &inputs.bodies[i], s);
         }
         first.map_or(Ok(()), Err)
     }
@@ -239,9 +239,9 @@ mod tests {
     type Walked<'a> =
         dyn Fn(&mut [BodyState], &mut [f64], &mut Vec<usize>) -> Result<(), (usize, f64)> + 'a;
 
-    fn bodies(n: usize) -> Vec<Body> {
+    fn bodies(n: usize) -> Bodies {
         let shape = crate::body::Shape::Sphere { diameter: 0.01 };
-        vec![Body::new(shape, 0, 1000.0); n]
+        Bodies::uniform(Body::new(shape, 0, 1000.0), n)
     }
 
     fn states(n: usize) -> Vec<BodyState> {

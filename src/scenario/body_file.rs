@@ -26,7 +26,7 @@ use super::check::Ctx;
 use super::file::MaterialSection;
 use super::ids::Ids;
 use super::SPEED_OF_LIGHT;
-use crate::body::{Body, BodyState, MaterialId, RotState, Shape};
+use crate::body::{Bodies, Body, BodyState, MaterialId, RotState, Shape};
 use crate::error::{Error, Result};
 use crate::fmt::short;
 use glam::{DQuat, DVec3};
@@ -53,7 +53,7 @@ const QUAT_INPUT_TOLERANCE: f64 = 1e-6;
 
 /// Bodies read from a body file, in file order.
 pub(super) struct FileBodies {
-    pub(super) bodies: Vec<Body>,
+    pub(super) bodies: Bodies,
     pub(super) initial: Vec<BodyState>,
     pub(super) ids: Vec<u64>,
     /// The file's line of each body (1-based), for messages.
@@ -100,7 +100,7 @@ pub(super) fn read(
     })?;
     let mut r = std::io::BufReader::with_capacity(1 << 20, f);
     let mut out = FileBodies {
-        bodies: vec![],
+        bodies: Bodies::new(),
         initial: vec![],
         ids: vec![],
         lines: vec![],
@@ -349,7 +349,7 @@ fn parse_row(
 pub fn write(
     path: &Path,
     ids: &Ids,
-    bodies: &[Body],
+    bodies: &Bodies,
     states: &[BodyState],
     material_names: &[String],
 ) -> Result<()> {

@@ -111,7 +111,7 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
         return Err(cx.err("body", check::NO_BODIES));
     }
     let needs_contacts = walls.is_some() || raw.body.len() > 1 || has_file;
-    let mut bodies = Vec::with_capacity(raw.body.len());
+    let mut bodies = crate::body::Bodies::new();
     let mut names = Vec::with_capacity(raw.body.len());
     let mut initial = Vec::with_capacity(raw.body.len());
     let mut torques = vec![];
@@ -146,7 +146,11 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
             ids.len() as u64,
             &mut materials,
         )?;
-        bodies.extend(read.bodies);
+        if bodies.is_empty() {
+            bodies = read.bodies;
+        } else {
+            bodies.extend(read.bodies.iter().copied());
+        }
         initial.extend(read.initial);
         ids.extend(read.ids);
         file_lines = read.lines;
@@ -279,6 +283,7 @@ fn build(raw: ScenarioFile, src: &str) -> Result<Scene> {
     };
     let friction = friction(&cx, raw.contact.as_ref(), &materials.table)?;
 
+    bodies.shrink_to_fit();
     Ok(Scene {
         damping,
         friction,

@@ -3,7 +3,7 @@
 use super::check::Ctx;
 use super::file::ReferenceSection;
 use super::scene::Prescribed;
-use crate::body::{Body, BodyState, Shape};
+use crate::body::{Bodies, BodyState, Shape};
 use crate::error::Result;
 use crate::fmt::short3;
 use crate::reference::{Manufactured, TorqueFree, Wave};
@@ -72,7 +72,7 @@ fn keys_given(r: &ReferenceSection) -> [(&'static str, bool); 7] {
 pub(super) fn build_reference(
     cx: &Ctx,
     r: &ReferenceSection,
-    bodies: &[Body],
+    bodies: &Bodies,
     initial: &mut [BodyState],
     torques: &mut Vec<Prescribed>,
     needs_contacts: bool,
@@ -112,7 +112,7 @@ pub(super) fn build_reference(
 }
 
 /// One body, nothing to touch: the closed forms for a single free body.
-fn single_free_body(cx: &Ctx, kind: &str, bodies: &[Body], needs_contacts: bool) -> Result<()> {
+fn single_free_body(cx: &Ctx, kind: &str, bodies: &Bodies, needs_contacts: bool) -> Result<()> {
     if bodies.len() != 1 || needs_contacts {
         return Err(cx.err(
             "reference",
@@ -124,7 +124,7 @@ fn single_free_body(cx: &Ctx, kind: &str, bodies: &[Body], needs_contacts: bool)
 
 fn torque_free(
     cx: &Ctx,
-    bodies: &[Body],
+    bodies: &Bodies,
     initial: &[BodyState],
     torques: &[Prescribed],
     needs_contacts: bool,
@@ -163,7 +163,7 @@ fn wave(cx: &Ctx, key: &str, w: [f64; 3]) -> Result<Wave> {
 fn manufactured(
     cx: &Ctx,
     r: &ReferenceSection,
-    bodies: &[Body],
+    bodies: &Bodies,
     initial: &mut [BodyState],
     torques: &mut Vec<Prescribed>,
     needs_contacts: bool,
@@ -210,7 +210,7 @@ fn manufactured(
 fn exp_torque_sphere(
     cx: &Ctx,
     r: &ReferenceSection,
-    bodies: &[Body],
+    bodies: &Bodies,
     initial: &[BodyState],
     torques: &[Prescribed],
 ) -> Result<ClosedForm> {

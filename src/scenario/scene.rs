@@ -3,7 +3,7 @@
 use super::ids::Ids;
 use super::reference::ClosedForm;
 use super::sim::{Guards, SimParams};
-use crate::body::{Body, BodyState, Material};
+use crate::body::{Bodies, BodyState, Material};
 use crate::torque::PrescribedTorque;
 use glam::DVec3;
 
@@ -39,8 +39,8 @@ pub struct Scene {
     pub text: String,
     /// Time step, step count, rotator, output cadence.
     pub sim: SimParams,
-    /// Per-body constants, by storage index.
-    pub bodies: Vec<Body>,
+    /// Per-body constants, by storage index (each distinct value once).
+    pub bodies: Bodies,
     /// Stable global id of each body (the `body` column of the outputs,
     /// diagnoses, checkpoints), by storage index.
     pub ids: Ids,

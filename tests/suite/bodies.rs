@@ -413,12 +413,12 @@ fn a_shape_column_admits_spheres() {
         "same bytes back"
     );
     let fibres = dir.path().join("fibres.csv");
-    let one = (&scene.bodies[..1], &scene.initial[..1]);
+    let one = fibresim::body::Bodies::uniform(scene.bodies[0], 1);
     fibresim::scenario::body_file::write(
         &fibres,
         &fibresim::scenario::Ids::Sequential(1),
-        one.0,
-        one.1,
+        &one,
+        &scene.initial[..1],
         &names,
     )
     .unwrap();

@@ -29,7 +29,7 @@ pub(crate) use table::{body_law, body_wall_law, LawTable, TangentialLaw};
 
 use super::tangential::{spring_energy, step_spring};
 use super::{ContactPoint, HertzLaw};
-use crate::body::{Body, BodyState};
+use crate::body::{Bodies, BodyState};
 use glam::DVec3;
 use std::marker::PhantomData;
 
@@ -163,12 +163,12 @@ pub(crate) struct Side {
 /// depend on velocities: masses, velocities, angular velocities.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Motion<'a> {
-    bodies: &'a [Body],
+    bodies: &'a Bodies,
     states: &'a [BodyState],
 }
 
 impl<'a> Motion<'a> {
-    pub(crate) fn new(bodies: &'a [Body], states: &'a [BodyState]) -> Self {
+    pub(crate) fn new(bodies: &'a Bodies, states: &'a [BodyState]) -> Self {
         Motion { bodies, states }
     }
 
@@ -209,7 +209,7 @@ impl<'a, F: Keeping> Laws<'a, F> {
     /// The laws of `table` at the motion `bodies`/`states` (read only if
     /// the table's laws depend on velocities); `F` must be the table's
     /// [`LawTable::keeps_history`].
-    pub(crate) fn new(table: &'a LawTable, bodies: &'a [Body], states: &'a [BodyState]) -> Self {
+    pub(crate) fn new(table: &'a LawTable, bodies: &'a Bodies, states: &'a [BodyState]) -> Self {
         assert_eq!(
             F::RECORDS,
             table.keeps_history(),

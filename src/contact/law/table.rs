@@ -11,7 +11,7 @@
 //! numbers in the same order, as a law built for each pair would be:
 //! bit-identical.
 
-use crate::body::{Body, Material};
+use crate::body::{Bodies, Body, Material};
 use crate::contact::damping::{damping_constant, Restitution};
 use crate::contact::tangential::{Friction, Tangential};
 use crate::contact::{ColliderKind, HertzLaw, Walls};
@@ -39,8 +39,11 @@ pub(crate) struct LawTable {
     /// The damping constants `α(e)` of body pairs and of walls
     /// (`damping.rs`), if the scene declares a restitution.
     alpha: Option<[f64; 2]>,
-    /// Contact kind of each body, by storage index.
+    /// Contact kind of body `i` at `kind_of[i & mask]`: one entry (0) for
+    /// all bodies when there is one kind (`mask` 0: a bed of identical
+    /// fibres keeps nothing per body), else one per body (`mask` all ones).
     kind_of: Vec<u32>,
+    mask: usize,
     /// The kinds, in order of first appearance.
     kinds: Vec<Kind>,
     /// Body–wall law of each kind (empty without walls).
@@ -90,11 +93,12 @@ impl TangentialLaw {
 impl LawTable {
     /// The laws of `bodies` (made of `materials`) with each other and with
     /// `walls`.
-    pub(crate) fn new(bodies: &[Body], materials: &[Material], walls: Option<&Walls>) -> Self {
+    pub(crate) fn new(bodies: &Bodies, materials: &[Material], walls: Option<&Walls>) -> Self {
         let mut index: HashMap<(ColliderKind, u32, u64), u32> = HashMap::new();
         let mut kinds = vec![];
-        let kind_of = bodies
-            .iter()
+        // The contact kind of each distinct body value (`Bodies::kinds`, in
+        // order of first appearance, so the contact kinds are too).
+        let of_value: Vec<u32> = (bodies.kinds().iter())
             .map(|b| {
                 let diameter = b.shape.diameter();
                 let shape = ColliderKind::of(&b.shape)
@@ -114,6 +118,15 @@ impl LawTable {
                     })
             })
             .collect();
+        let (kind_of, mask) = match kinds.len() {
+            0 | 1 => (vec![0], 0),
+            _ => (
+                (0..bodies.len())
+                    .map(|i| of_value[bodies.kind(i)])
+                    .collect(),
+                usize::MAX,
+            ),
+        };
         let wall = match walls {
             Some(w) => kinds.iter().map(|&k| wall_law(k, w)).collect(),
             None => vec![],
@@ -129,6 +142,7 @@ impl LawTable {
         LawTable {
             alpha: None,
             kind_of,
+            mask,
             kinds,
             wall,
             pair,
@@ -177,6 +191,12 @@ impl LawTable {
         self
     }
 
+    /// The contact kind of body `a`.
+    #[inline(always)]
+    fn kind(&self, a: usize) -> usize {
+        self.kind_of[a & self.mask] as usize
+    }
+
     /// Whether the laws depend on the bodies' velocities (they have a
     /// non-conservative part).
     #[inline]
@@ -194,7 +214,7 @@ impl LawTable {
     /// is frictional (the table has friction).
     #[inline(always)]
     pub(crate) fn tangential_wall(&self, a: usize) -> Option<TangentialLaw> {
-        *self.tangential_wall.get(self.kind_of[a] as usize)?
+        *self.tangential_wall.get(self.kind(a))?
     }
 
     /// The Hertz law of bodies `a` and `b` ([`LawTable::pair`]) and their
@@ -206,7 +226,7 @@ impl LawTable {
         a: usize,
         b: usize,
     ) -> (HertzLaw, Option<TangentialLaw>) {
-        let (ka, kb) = (self.kind_of[a] as usize, self.kind_of[b] as usize);
+        let (ka, kb) = (self.kind(a), self.kind(b));
         let i = ka * self.kinds.len() + kb;
         match (self.pair.get(i), self.tangential_pair.get(i)) {
             (Some(&law), Some(&t)) => (law, t),
@@ -248,14 +268,14 @@ impl LawTable {
     /// The Hertz law of body `a` against a wall.
     #[inline]
     pub(crate) fn wall(&self, a: usize) -> &HertzLaw {
-        &self.wall[self.kind_of[a] as usize]
+        &self.wall[self.kind(a)]
     }
 
     /// The Hertz law of body `a` (as the pair's first) against body `b`:
     /// the table's lookup (its untabled fallback out of line).
     #[inline(always)]
     pub(crate) fn pair(&self, a: usize, b: usize) -> HertzLaw {
-        let (ka, kb) = (self.kind_of[a] as usize, self.kind_of[b] as usize);
+        let (ka, kb) = (self.kind(a), self.kind(b));
         match self.pair.get(ka * self.kinds.len() + kb) {
             Some(&law) => law,
             None => self.computed(ka, kb),
@@ -374,7 +394,7 @@ mod tests {
         materials[0].friction = Some(0.2);
         materials[1].friction = Some(0.5);
         materials[3].friction = Some(0.0);
-        let bodies: Vec<_> = (0..4).map(|m| fibre(0.01, m)).collect();
+        let bodies: Bodies = (0..4).map(|m| fibre(0.01, m)).collect();
         let f = Friction {
             body: 0.3,
             wall: 0.4,
@@ -405,11 +425,11 @@ mod tests {
     fn tabled_tangential_laws_are_the_per_pair_laws() {
         let mut materials = vec![material(5e7, 0.35), material(2.1e9, 0.23)];
         materials[1].friction = Some(0.5);
-        let few: Vec<Body> = [(0.01, 0), (0.003, 1), (0.01, 1), (0.001, 0)]
+        let few: Bodies = [(0.01, 0), (0.003, 1), (0.01, 1), (0.001, 0)]
             .iter()
             .map(|&(d, m)| fibre(d, m))
             .collect();
-        let many: Vec<Body> = (0..MAX_TABLE_KINDS + 3)
+        let many: Bodies = (0..MAX_TABLE_KINDS + 3)
             .map(|i| fibre(0.005 + 1e-4 * i as f64, (i % 2) as u32))
             .collect();
         let f = Friction {
@@ -461,7 +481,7 @@ mod tests {
 
     /// Reference: the laws built for each pair and each body (as the stage
     /// built them before the table), compared bit for bit.
-    fn assert_matches_per_pair(bodies: &[Body], materials: &[Material]) {
+    fn assert_matches_per_pair(bodies: &Bodies, materials: &[Material]) {
         let t = LawTable::new(bodies, materials, Some(&WALLS));
         for (i, a) in bodies.iter().enumerate() {
             let ma = &materials[a.material as usize];
@@ -501,12 +521,14 @@ mod tests {
     #[test]
     fn a_mixed_bed_has_the_law_of_each_kind_pair() {
         let materials = [material(5e7, 0.35), material(2.1e9, 0.23)];
-        let bodies = [
+        let bodies: Bodies = [
             fibre(0.01, 0),
             sphere(0.01, 0),
             sphere(0.003, 1),
             fibre(0.01, 0),
-        ];
+        ]
+        .into_iter()
+        .collect();
         let t = LawTable::new(&bodies, &materials, Some(&WALLS));
         assert_eq!(t.kinds.len(), 3);
         let bits = |l: &HertzLaw| (l.e_star.to_bits(), l.r_star.to_bits());
@@ -551,9 +573,10 @@ mod tests {
     #[test]
     fn a_bed_of_identical_fibres_has_one_law() {
         let materials = [material(5e7, 0.35)];
-        let bodies = vec![fibre(0.01, 0); 9];
+        let bodies = Bodies::uniform(fibre(0.01, 0), 9);
         let t = LawTable::new(&bodies, &materials, Some(&WALLS));
         assert_eq!((t.kinds.len(), t.wall.len(), t.pair.len()), (1, 1, 1));
+        assert_eq!((t.kind_of.len(), t.mask), (1, 0), "nothing per body");
         assert_matches_per_pair(&bodies, &materials);
     }
 
@@ -562,7 +585,7 @@ mod tests {
         // Two materials, three diameters (none exact in binary, so 1/R*
         // rounds differently for each pair of them).
         let materials = [material(5e7, 0.35), material(2.1e9, 0.23)];
-        let bodies: Vec<Body> = [(0.01, 0), (0.003, 1), (0.01, 1), (0.01, 0), (0.001, 0)]
+        let bodies: Bodies = [(0.01, 0), (0.003, 1), (0.01, 1), (0.01, 0), (0.001, 0)]
             .iter()
             .map(|&(d, m)| fibre(d, m))
             .collect();
@@ -575,7 +598,7 @@ mod tests {
     #[test]
     fn many_kinds_build_each_law_per_pair() {
         let materials = [material(5e7, 0.35)];
-        let bodies: Vec<Body> = (0..MAX_TABLE_KINDS + 5)
+        let bodies: Bodies = (0..MAX_TABLE_KINDS + 5)
             .map(|i| fibre(0.005 + 1e-4 * i as f64, 0))
             .collect();
         let t = LawTable::new(&bodies, &materials, Some(&WALLS));
