@@ -2,7 +2,8 @@
 # Fibre-steps per second of settled beds from 10^3 to 10^6 fibres, aspect
 # ratios 3 and 10, on 1 and 2 threads, and the figure of docs/performance.md.
 #
-#   scripts/bed_scaling.sh OUT_DIR      # ~15 min on an idle 2-core machine
+#   scripts/bed_scaling.sh OUT_DIR           # ~15 min on an idle 2-core machine
+#   scripts/bed_scaling.sh OUT_DIR --memory  # the memory table only (~5 min)
 #
 # The beds: the shipped bed_1k, bed_1k_column (10^3 fibres in a 0.1 x 0.1 m
 # column, as deep as bed_10k), bed_10k and bed_ar10 (10^3, AR 10), and
@@ -13,8 +14,13 @@
 # OUT_DIR/bed_scaling.csv (a `series` column: one per aspect ratio and thread
 # count, plus the peers' measurements at 10^4 fibres) and
 # docs/figures/bed_scaling.png from it with `fibresim plot`.
+#
+# With --memory it runs only the AR-3 beds of 10^4, 10^5 and 10^6 fibres,
+# with the steps below, and prints the heap bytes per fibre of
+# docs/performance.md "Memory", leaving the figure as it is.
 set -euo pipefail
 out=${1:?give an output folder}
+mode=${2:-}
 bin=${FIBRESIM:-target/release/fibresim}
 mkdir -p "$out/beds"
 cargo build --release -q
@@ -29,6 +35,25 @@ bed() { # name source times -> path
 bench() { # raw-csv scene steps repeats
   cargo bench -q --bench bed -- "$2" --steps "$3" --repeats "$4" --threads 1,2 --csv "$out/raw_$1.csv"
 }
+
+if [ "$mode" = --memory ]; then
+  memory() { # scene steps (as below, one run each)
+    cargo bench -q --bench bed -- "$1" --steps "$2" --repeats 1 --threads 1,2 --csv "$out/raw_memory.csv" |
+      grep -E "loaded|world heap|heap while stepping"
+  }
+  memory scenarios/bed_10k.toml 100
+  memory "$(bed ar3_100k bed_10k 5,2,1)" 10
+  memory "$(bed ar3_1m bed_10k 10,10,1)" 2
+  python3 - "$out" <<'EOF'
+import csv, sys
+rows = list(csv.DictReader(open(f"{sys.argv[1]}/raw_memory.csv")))
+print("fibres | 1 thread | 2 threads (heap bytes per fibre, the scene included)")
+for n in dict.fromkeys(r["fibres"] for r in rows):
+    h = {r["threads"]: r["heap_bytes_per_fibre"] for r in rows if r["fibres"] == n}
+    print(f"{n} | {h.get('1', '')} | {h.get('2', '')}")
+EOF
+  exit
+fi
 
 bench ar3 scenarios/bed_1k.toml 1000 5
 bench ar3_column scenarios/bed_1k_column.toml 1000 5
