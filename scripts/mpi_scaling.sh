@@ -55,7 +55,7 @@ mean = lambda key: sum(x[key] for x in r) / len(r) if r else 0.0
 peak = lambda key: max(x[key] for x in r) if r else 0.0
 rss = max(int(l) for l in open(sys.argv[7]) if l.strip().isdigit()) / 1024
 print(f"{case},{bodies},{k},{t},{n},{s['wall_s']:.3f},{bodies * n / s['wall_s']:.0f},"
-      f"{mean('bytes_per_fibre_step'):.1f},{peak('force_s'):.3f},{peak('comm_s'):.3f},{peak('wait_s'):.3f},{rss:.0f},{same}")
+      f"{mean('bytes_per_body_step'):.1f},{peak('force_s'):.3f},{peak('comm_s'):.3f},{peak('wait_s'):.3f},{rss:.0f},{same}")
 EOF
   echo "$dir"
 }

@@ -185,12 +185,12 @@ fn report(s: &mut RankStep) -> Option<Report> {
 impl Report {
     fn table(&self) -> String {
         let mut t = String::from(
-            "rank  fibres  ghosts  force_s  integrate_s  comm_s  wait_s  bytes/step  bytes/fibre-step  rebuilds  migrated\n",
+            "rank  bodies  ghosts  force_s  integrate_s  comm_s  wait_s  bytes/step  bytes/body-step  rebuilds  migrated\n",
         );
         for (r, row) in self.rows.iter().enumerate() {
             let per_step = row[6] / row[7].max(1.0);
             t += &format!(
-                "{r:>4}  {:>6.0}  {:>6.0}  {:>7.3}  {:>11.3}  {:>6.3}  {:>6.3}  {:>10.0}  {:>16.1}  {:>8.0}  {:>8.0}\n",
+                "{r:>4}  {:>6.0}  {:>6.0}  {:>7.3}  {:>11.3}  {:>6.3}  {:>6.3}  {:>10.0}  {:>15.1}  {:>8.0}  {:>8.0}\n",
                 row[0],
                 row[1],
                 row[2],
@@ -218,14 +218,14 @@ impl Report {
                 let per_step = row[6] / row[7].max(1.0);
                 serde_json::json!({
                     "rank": r,
-                    "fibres": row[0],
+                    "bodies": row[0],
                     "ghosts": row[1],
                     "force_s": row[2],
                     "integrate_s": row[3],
                     "comm_s": row[4],
                     "wait_s": row[5],
                     "bytes_per_step": per_step,
-                    "bytes_per_fibre_step": per_step / row[0].max(1.0),
+                    "bytes_per_body_step": per_step / row[0].max(1.0),
                     "rebuilds": row[8],
                     "migrated": row[9],
                 })
