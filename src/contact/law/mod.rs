@@ -241,34 +241,17 @@ impl<'a, F: Keeping> Laws<'a, F> {
         }
     }
 
-    /// The law of body `a` (the pair's first) against body `b`.
+    /// The law of body `a` (the pair's first) against body `b`: laws that
+    /// keep records take the Hertz and the tangential law in one lookup.
+    /// The motion is read with a `match`, not a closure (in the frictional
+    /// candidate loop the closure was not inlined).
     #[inline(always)]
     pub(crate) fn pair(&self, a: Side, b: Side) -> CandidateLaw<'a, F> {
-        if F::RECORDS {
-            return self.frictional_pair(a, b);
-        }
-        let hertz = self.table.pair(a.index, b.index);
-        let nc = self.motion.map(|motion| NonConservative {
-            alpha: self.table.alpha_pair(),
-            root_mk: (motion.reduced_mass(&a, Some(&b)) * hertz.stiffness()).sqrt(),
-            motion,
-            tangential: F::hold(|| None),
-        });
-        CandidateLaw {
-            hertz,
-            a,
-            b: Some(b),
-            nc,
-            keeping: PhantomData,
-        }
-    }
-
-    /// [`Laws::pair`] of laws that keep records: the Hertz and the
-    /// tangential law in one lookup, and the motion read without a
-    /// closure (a frictional scene's laws always read it).
-    #[inline(always)]
-    fn frictional_pair(&self, a: Side, b: Side) -> CandidateLaw<'a, F> {
-        let (hertz, tangential) = self.table.pair_with_tangential(a.index, b.index);
+        let (hertz, tangential) = if F::RECORDS {
+            self.table.pair_with_tangential(a.index, b.index)
+        } else {
+            (self.table.pair(a.index, b.index), None)
+        };
         let nc = match self.motion {
             Some(motion) => Some(NonConservative {
                 alpha: self.table.alpha_pair(),
