@@ -29,8 +29,10 @@ bodies = json.load(open(f"{d}/run.1/summary.json"))["bodies"]
 def functions(path):
     # Inclusive counts of whole functions (the lines callgrind_annotate
     # tags with the binary; the others are inlined code by source file).
-    out = subprocess.run(["callgrind_annotate", "--inclusive=yes", "--threshold=100", path],
-                         capture_output=True, text=True, check=True).stdout
+    # Run from "/": from the source tree it names some files relatively
+    # and splits a function's count between the two names.
+    out = subprocess.run(["callgrind_annotate", "--inclusive=yes", "--threshold=100", "--auto=no", path],
+                         capture_output=True, text=True, check=True, cwd="/").stdout
     f = {}
     for line in out.splitlines():
         m = re.match(r"\s*([\d,]+) \([^)]*\)\s+(\S.*?)(?: \[(.*)\])?$", line)
@@ -56,8 +58,13 @@ rows = [
     ("        end-involved through the dispatch", per(ff + "end_involved::penetration_smoothed")),
     ("        of which rim–rim", per(ff + "features::rim_rim::rim_rim")),
 ]
+forces = per("fibresim::contact::stage::ContactStage::compute")
+loop = per("fibresim::contact::blocks::Blocks::lists")
 kernels = per("fibresim::contact::dispatch::contacts_remembering")
-rows.append(("not the kernels (step less dispatch and kernels)", total - kernels))
+rows[2] = ("  neighbour-list builds (in the window)", rows[2][1])
+rows.insert(4, ("    the pair loop less the kernels (candidates, laws, sums)", loop - kernels))
+rows.append(("integration and the rest (the step less the forces)", total - forces))
+rows.append(("not the kernels (the step less dispatch and kernels)", total - kernels))
 print(f"{scene}: {bodies} bodies, steps {steps} → {2 * steps}, instructions per body-step")
 for name, v in rows:
     print(f"{v:9.0f}  {name}")
