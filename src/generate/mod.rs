@@ -2,6 +2,7 @@
 //! a mix of both in a box, and its body file (random sequential placement on a cell grid, O(N);
 //! [`place`]). Same options and seed, same bytes.
 
+pub mod order;
 pub mod place;
 pub mod replicate;
 pub mod sample;

@@ -47,8 +47,8 @@ pub struct ReplicateReport {
 
 /// The bed of `scene` copied `times` over: the box grows to `times` × its
 /// sides from its lower corner, copy `(i, j, k)` is moved by `(i, j, k)` box
-/// sides, and bodies are numbered copy by copy (x fastest), in the source's
-/// order within a copy.
+/// sides, and the bodies of all copies are numbered along the box's
+/// space-filling curve ([`super::order`]).
 pub fn replicated(scene: &Scene, times: [usize; 3]) -> Result<Scene> {
     let Some(walls) = scene.walls.clone() else {
         return Err(Error::bad(
@@ -100,6 +100,10 @@ pub fn replicated(scene: &Scene, times: [usize; 3]) -> Result<Scene> {
             }
         }
     }
+    let big = out.walls.as_ref().expect("set above");
+    let order = super::order::space_filling_order(&out.initial, big.min, big.max);
+    out.bodies = order.iter().map(|&i| out.bodies[i]).collect();
+    out.initial = order.iter().map(|&i| out.initial[i]).collect();
     out.ids = Ids::Sequential(out.bodies.len());
     Ok(out)
 }

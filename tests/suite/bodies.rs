@@ -344,13 +344,23 @@ fn replicated_beds_copy_states_and_measure_the_seams() {
         (w.min.to_array(), w.max.to_array()),
         ([0.0; 3], [0.2, 0.1, 0.1])
     );
-    for (k, t) in b.initial.iter().enumerate() {
-        let o = &a.initial[k % 2];
-        assert_eq!((t.v, t.rot.q, t.rot.omega_b), (o.v, o.rot.q, o.rot.omega_b));
-        let shift = if k < 2 { 0.0 } else { 0.1 };
-        assert_eq!(t.x.to_array(), [o.x.x + shift, o.x.y, o.x.z]);
-        assert_eq!(b.bodies[k], a.bodies[k % 2]);
+    // Each written body is one source body of one copy, bit for bit but
+    // for the shift, and each (body, copy) is written once: numbered along
+    // the space-filling curve, x first here, B0 (x = r − δ₂), A0, B1, A1.
+    let mut written = vec![];
+    for (t, body) in b.initial.iter().zip(b.bodies.iter()) {
+        let (k, copy) = (0..2)
+            .flat_map(|k| (0..2).map(move |c| (k, c)))
+            .find(|&(k, c)| {
+                let o = &a.initial[k];
+                (t.v, t.rot.q, t.rot.omega_b) == (o.v, o.rot.q, o.rot.omega_b)
+                    && t.x.to_array() == [o.x.x + 0.1 * c as f64, o.x.y, o.x.z]
+            })
+            .expect("a written body is a copy of a source body");
+        assert_eq!(body, &a.bodies[k]);
+        written.push((copy, k));
     }
+    assert_eq!(written, [(0, 1), (0, 0), (1, 1), (1, 0)]);
     let bad = fibresim(&[
         "replicate",
         src.to_str().unwrap(),
