@@ -1,6 +1,9 @@
 //! The per-contact history store: what the law keeps of each touching
 //! contact point between force computations ([`Record`]), by the
-//! contact's identity ([`ContactKey`]: its pair and its slot).
+//! contact's identity ([`ContactKey`]: its pair and its slot). The record
+//! is a client of the carrying (`carry.rs`: 9 bytes of key, 56 of
+//! record), which writes it into checkpoints and sends it between MPI
+//! ranks as it does the pairs' memories.
 //!
 //! A store is a vector sorted by key, one per candidate list (walls,
 //! body pairs). Each computation reads the last one (mostly the entries
@@ -22,6 +25,7 @@
 //! identity; its place is. A pair's slot is then only the point's rank,
 //! which keeps the store sorted and its keys unique.
 
+use super::carry::{decode_as, encode, Carried, Key};
 use super::law::Record;
 use glam::DVec3;
 
@@ -225,14 +229,9 @@ pub(crate) fn sorted(mut store: Vec<Entry>) -> Vec<Entry> {
     store
 }
 
-/// Bytes of one entry in a checkpoint's states file: `u32` a, `u32` b,
-/// `u8` slot, then the record's seven `f64` (ξ, the place, the weight),
-/// little-endian, exact bits.
-pub(crate) const ENTRY_BYTES: usize = 9 + 8 * RAW;
-
-/// Bytes of one entry in a states file of the format before places
-/// (`fibresim-checkpoint-6`): the key and ξ.
-pub(crate) const ENTRY_BYTES_WITHOUT_PLACE: usize = 9 + 8 * 3;
+/// Bytes of one record in a states file of the format before places
+/// (`fibresim-checkpoint-6`): ξ alone.
+const XI_BYTES: usize = 8 * 3;
 
 /// Numbers in a record ([`record_to_raw`]).
 pub(crate) const RAW: usize = 7;
@@ -255,21 +254,75 @@ pub(crate) fn record_from_raw(d: [f64; RAW]) -> Record {
     }
 }
 
-impl History {
-    /// Append the store to a checkpoint's states file: per list (walls,
-    /// then pairs) a `u64` count and its entries ([`ENTRY_BYTES`] each).
-    pub(crate) fn encode(&self, out: &mut Vec<u8>) {
-        for store in [&self.walls, &self.pairs] {
-            out.extend_from_slice(&(store.len() as u64).to_le_bytes());
-            for (k, r) in store {
-                out.extend_from_slice(&k.a.to_le_bytes());
-                out.extend_from_slice(&k.b.to_le_bytes());
-                out.push(k.slot);
-                for x in record_to_raw(r) {
-                    out.extend_from_slice(&x.to_bits().to_le_bytes());
-                }
-            }
+/// The `k`-th little-endian `f64` of `b`, exact bits.
+fn f64_at(b: &[u8], k: usize) -> f64 {
+    f64::from_bits(u64::from_le_bytes(
+        b[8 * k..8 * k + 8].try_into().expect("8 bytes"),
+    ))
+}
+
+impl Key for ContactKey {
+    const BYTES: usize = 9;
+
+    fn put(&self, out: &mut Vec<u8>) {
+        out.extend_from_slice(&self.a.to_le_bytes());
+        out.extend_from_slice(&self.b.to_le_bytes());
+        out.push(self.slot);
+    }
+
+    fn get(b: &[u8]) -> Self {
+        let word = |i: usize| u32::from_le_bytes(b[i..i + 4].try_into().expect("4 bytes"));
+        ContactKey {
+            a: word(0),
+            b: word(4),
+            slot: b[8],
         }
+    }
+
+    fn first(&self) -> u32 {
+        self.a
+    }
+
+    fn describe(&self) -> String {
+        format!("({}, {}, slot {})", self.a, self.b, self.slot)
+    }
+}
+
+/// The record as a client of the carrying (`carry.rs`): its seven
+/// numbers ([`record_to_raw`]), exact bits.
+impl Carried for Record {
+    type Key = ContactKey;
+    const BYTES: usize = 8 * RAW;
+
+    fn put(&self, out: &mut Vec<u8>) {
+        for x in record_to_raw(self) {
+            out.extend_from_slice(&x.to_bits().to_le_bytes());
+        }
+    }
+
+    fn get(b: &[u8]) -> Option<Self> {
+        Some(record_from_raw(std::array::from_fn(|k| f64_at(b, k))))
+    }
+}
+
+/// A record of the format before places: ξ only, the place and weight
+/// NaN (a body pair's record then goes to the new point of its own rank,
+/// [`recall_by_place`]).
+fn record_without_place(b: &[u8]) -> Option<Record> {
+    let mut raw = [f64::NAN; RAW];
+    for (k, x) in raw.iter_mut().take(3).enumerate() {
+        *x = f64_at(b, k);
+    }
+    Some(record_from_raw(raw))
+}
+
+impl History {
+    /// Append the store to a checkpoint's states file (`carry.rs`): the
+    /// walls' entries, then the pairs' (a key of `u32` a, `u32` b, `u8`
+    /// slot, and the record's seven `f64`: ξ, the place, the weight).
+    pub(crate) fn encode(&self, out: &mut Vec<u8>) {
+        encode(self.walls.iter().copied(), out);
+        encode(self.pairs.iter().copied(), out);
     }
 
     /// The store at the start of `b` (as [`History::encode`] wrote it) for
@@ -284,62 +337,24 @@ impl History {
         walls: usize,
         places: bool,
     ) -> Result<(Self, usize), String> {
-        let entry_bytes = if places {
-            ENTRY_BYTES
+        type Read = fn(&[u8]) -> Option<Record>;
+        let (bytes, read): (usize, Read) = if places {
+            (Record::BYTES, Record::get)
         } else {
-            ENTRY_BYTES_WITHOUT_PLACE
+            (XI_BYTES, record_without_place)
         };
-        let mut at = 0;
-        let mut h = History::default();
-        for (name, pairs) in [("wall", false), ("pair", true)] {
-            let count = b
-                .get(at..at + 8)
-                .map(|w| u64::from_le_bytes(w.try_into().expect("8 bytes")))
-                .ok_or("the contacts' records are truncated")? as usize;
-            at += 8;
-            let len = count
-                .checked_mul(entry_bytes)
-                .filter(|&l| at + l <= b.len())
-                .ok_or("the contacts' records are truncated")?;
-            let store = if pairs { &mut h.pairs } else { &mut h.walls };
-            store.reserve(count);
-            for e in b[at..at + len].chunks_exact(entry_bytes) {
-                let word = |i: usize| u32::from_le_bytes(e[i..i + 4].try_into().expect("4 bytes"));
-                let f = |i: usize| {
-                    f64::from_bits(u64::from_le_bytes(e[i..i + 8].try_into().expect("8 bytes")))
-                };
-                let key = ContactKey {
-                    a: word(0),
-                    b: word(4),
-                    slot: e[8],
-                };
-                let valid = (key.a as usize) < n
-                    && if pairs {
-                        key.a < key.b && (key.b as usize) < n
-                    } else {
-                        (key.b as usize) < walls
-                    };
-                if !valid {
-                    return Err(format!(
-                        "{name} contact ({}, {}, slot {}) is not one a run writes",
-                        key.a, key.b, key.slot
-                    ));
-                }
-                if store.last().is_some_and(|(k, _)| *k >= key) {
-                    return Err(format!(
-                        "{name} contacts out of order at ({}, {}, slot {})",
-                        key.a, key.b, key.slot
-                    ));
-                }
-                let mut raw = [f64::NAN; RAW];
-                for (k, x) in raw.iter_mut().take((entry_bytes - 9) / 8).enumerate() {
-                    *x = f(9 + 8 * k);
-                }
-                store.push((key, record_from_raw(raw)));
-            }
-            at += len;
-        }
-        Ok((h, at))
+        let (wall_entries, at) = decode_as(b, bytes, read, "wall contact", |k: &ContactKey| {
+            (k.a as usize) < n && (k.b as usize) < walls
+        })?;
+        let (pair_entries, used) =
+            decode_as(&b[at..], bytes, read, "pair contact", |k: &ContactKey| {
+                k.a < k.b && (k.b as usize) < n
+            })?;
+        let h = History {
+            walls: wall_entries,
+            pairs: pair_entries,
+        };
+        Ok((h, at + used))
     }
 }
 
@@ -389,7 +404,7 @@ mod tests {
         };
         let mut b = vec![];
         h.encode(&mut b);
-        assert_eq!(b.len(), 16 + 4 * ENTRY_BYTES);
+        assert_eq!(b.len(), 16 + 4 * (9 + 8 * 7));
         let (back, used) = History::decode(&b, 5, 6, true).unwrap();
         assert_eq!(used, b.len());
         let bits = |h: &History| {
@@ -418,7 +433,7 @@ mod tests {
                 }
             }
         }
-        assert_eq!(old.len(), 16 + 4 * ENTRY_BYTES_WITHOUT_PLACE);
+        assert_eq!(old.len(), 16 + 4 * (9 + 8 * 3));
         let (back, used) = History::decode(&old, 5, 6, false).unwrap();
         assert_eq!(used, old.len());
         for ((k, r), (k0, r0)) in back

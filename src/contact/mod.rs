@@ -24,6 +24,7 @@
 
 pub(crate) mod blocks;
 pub mod broad;
+pub(crate) mod carry;
 pub mod damping;
 pub mod dispatch;
 pub mod fibre_fibre;

@@ -237,9 +237,10 @@ fn unbits_all(v: &[String], what: &str) -> Result<Vec<f64>> {
 /// contact; floats are their exact bits.
 pub mod states {
     use crate::body::{BodyState, RotState};
+    use crate::contact::carry;
     use crate::contact::fibre_fibre::PairMemory;
     use crate::contact::history::History;
-    use crate::contact::memory::Entry;
+    use crate::contact::memory::{self, Entry};
     use crate::scenario::Ids;
     use glam::{DQuat, DVec3};
 
@@ -289,14 +290,7 @@ pub mod states {
                 out.extend_from_slice(&x.to_bits().to_le_bytes());
             }
         }
-        out.extend_from_slice(&(memory.len() as u64).to_le_bytes());
-        for &((i, j), m) in memory {
-            out.extend_from_slice(&i.to_le_bytes());
-            out.extend_from_slice(&j.to_le_bytes());
-            for x in m.to_raw() {
-                out.extend_from_slice(&x.to_le_bytes());
-            }
-        }
+        carry::encode(memory.iter().copied(), &mut out);
         if let Some(h) = history {
             h.encode(&mut out);
         }
@@ -338,11 +332,14 @@ pub mod states {
             + n.saturating_mul(112)
             + n.saturating_mul(per).saturating_mul(8)
             + n.saturating_mul(loads_per);
-        let remembered = word(before_memory)? as usize;
-        let after_memory = before_memory.saturating_add(8 + remembered.saturating_mul(14));
+        let (memory, after_memory) = {
+            let tail = b.get(before_memory..).ok_or("the file is truncated")?;
+            let (m, used) = carry::decode::<PairMemory>(tail, memory::WHAT, memory::valid_pair(n))?;
+            (m, before_memory + used)
+        };
         let (history, want) = match with_history {
             Some((walls, places)) => {
-                let tail = b.get(after_memory..).ok_or("the file is truncated")?;
+                let tail = &b[after_memory..];
                 let (h, used) = History::decode(tail, n, walls, places)?;
                 (h, after_memory + used)
             }
@@ -350,8 +347,9 @@ pub mod states {
         };
         if b.len() != want {
             return Err(format!(
-                "{} bytes, expected {want} for {n} bodies and {remembered} pair memories",
-                b.len()
+                "{} bytes, expected {want} for {n} bodies and {} pair memories",
+                b.len(),
+                memory.len()
             ));
         }
         let f = |at: usize| f64::from_bits(word(at).expect("length checked"));
@@ -381,21 +379,6 @@ pub mod states {
                 ]
             })
             .collect();
-        let half = |at: usize| u16::from_le_bytes([b[at], b[at + 1]]);
-        let quarter = |at: usize| u32::from_le_bytes(b[at..at + 4].try_into().expect("4 bytes"));
-        let mut memory = Vec::with_capacity(remembered);
-        for k in 0..remembered {
-            let at = before_memory + 8 + 14 * k;
-            let (i, j) = (quarter(at), quarter(at + 4));
-            let raw = [half(at + 8), half(at + 10), half(at + 12)];
-            let m = PairMemory::from_raw(raw)
-                .filter(|_| i < j && i < n as u32 && j < n as u32)
-                .ok_or_else(|| format!("pair memory {k} ({i}, {j}) is not one a run writes"))?;
-            if memory.last().is_some_and(|&(p, _)| p >= (i, j)) {
-                return Err(format!("pair memories out of order at {k} ({i}, {j})"));
-            }
-            memory.push(((i, j), m));
-        }
         Ok((ids.into(), states, aux, loads, memory, history))
     }
 }

@@ -8,6 +8,8 @@
 //!   at the one-process rebuilds, forces in the one-process order).
 //! - [`tally`]: the scene sums (ledger, contact statistics) on rank 0 in
 //!   the one-process order, broadcast to every rank.
+//! - [`carry`]: what contacts keep (pair memories, contacts' records)
+//!   sent between ranks at rebuilds and gathered for checkpoints.
 //! - [`comm`]: the collectives (rsmpi), timed and counted.
 //!
 //! Outputs are written by rank 0, which gathers the states at every output
@@ -16,9 +18,8 @@
 //! only outside the rayon scopes of the force stage, so each rank still
 //! runs its own threads (`--threads`).
 
+mod carry;
 mod comm;
-mod memory;
-mod records;
 mod slabs;
 mod stepper;
 mod tally;

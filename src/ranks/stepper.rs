@@ -20,14 +20,14 @@
 //! the one-process order, so states, energies and guards are bit-identical
 //! to one process for any number of ranks.
 
+use super::carry::{pack, unpack};
 use super::comm::Comm;
-use super::memory;
-use super::records;
 use super::slabs::Slabs;
 use super::tally::{self, HitKey};
 use crate::body::BodyState;
 use crate::contact::broad::{skin_limit2, NeighbourList, SkinRef};
 use crate::contact::fibre_fibre::PairMemory;
+use crate::contact::history::History;
 use crate::contact::memory::{entries, place, Entry};
 use crate::contact::stage::{geom, ContactStats};
 use crate::contact::FibreGeom;
@@ -147,7 +147,8 @@ impl<'c> RankStep<'c> {
             (Some(stage), None) => stage.touching_memories(),
             (Some(_), Some(_)) => {
                 let mine = self.owned_memories(PairMemory::is_touching);
-                memory::decode(&self.comm.all_gather_any(&memory::encode(mine.into_iter())))
+                let [all] = unpack(&self.comm.all_gather_any(&mine));
+                all
             }
         };
         // The contacts' records, likewise: at the start the stage's (every
@@ -155,7 +156,8 @@ impl<'c> RankStep<'c> {
         let records = match (w.contacts.as_ref().and_then(|c| c.history()), &self.list) {
             (Some(h), Some(_)) => {
                 let mine = self.owned_records(h);
-                Some(records::decode(&self.comm.all_gather_any(&mine)))
+                let [walls, pairs] = unpack(&self.comm.all_gather_any(&mine));
+                Some(History { walls, pairs })
             }
             _ => None,
         };
@@ -231,23 +233,25 @@ impl<'c> RankStep<'c> {
         self.clocks.rebuilds += 1;
     }
 
-    /// This rank's pair memories that `keep` accepts, of the pairs whose
-    /// first body it owns (each pair is some rank's once).
-    fn owned_memories(&self, keep: fn(&PairMemory) -> bool) -> Vec<Entry> {
-        let Some(list) = &self.list else {
-            return vec![];
-        };
+    /// The message ([`pack`]) of this rank's pair memories that `keep`
+    /// accepts, of the pairs whose first body it owns (each pair is some
+    /// rank's once).
+    fn owned_memories(&self, keep: fn(&PairMemory) -> bool) -> Vec<f64> {
         let (owner, me) = (&self.slabs.owner, self.rank());
-        entries(&list.pairs, &list.memory, keep)
-            .filter(|((i, _), _)| owner[*i as usize] as usize == me)
-            .collect()
+        let mine = |i: u32| owner[i as usize] as usize == me;
+        match &self.list {
+            Some(list) => pack([entries(&list.pairs, &list.memory, keep)], mine),
+            None => pack::<PairMemory>([std::iter::empty::<Entry>()], mine),
+        }
     }
 
-    /// The wire doubles of this rank's contacts' records in `h`: each
-    /// contact once, by the owner of its body A.
-    fn owned_records(&self, h: &crate::contact::history::History) -> Vec<f64> {
+    /// The message ([`pack`]) of this rank's contacts' records in `h`:
+    /// each contact once, by the owner of its body A.
+    fn owned_records(&self, h: &History) -> Vec<f64> {
         let (owner, me) = (&self.slabs.owner, self.rank());
-        records::encode(h, |_, k| owner[k.a as usize] as usize == me)
+        pack([h.walls.iter().copied(), h.pairs.iter().copied()], |a| {
+            owner[a as usize] as usize == me
+        })
     }
 
     /// Every rank's owned states (and rotator state; with `loads`, the
@@ -688,15 +692,17 @@ impl<'s> Stepper<'s> for RankStep<'_> {
             let mine = self.owned_records(h);
             if let Some((all, _)) = self.comm.gather(&mine) {
                 if let Some(stage) = &mut w.contacts {
-                    stage.set_gathered_history(records::decode(&all));
+                    let [walls, pairs] = unpack(&all);
+                    stage.set_gathered_history(History { walls, pairs });
                 }
             }
         }
         // The memories a checkpoint keeps, on rank 0.
         let mine = self.owned_memories(PairMemory::kept_by_checkpoints);
-        if let Some((all, _)) = self.comm.gather(&memory::encode(mine.into_iter())) {
+        if let Some((all, _)) = self.comm.gather(&mine) {
             if let Some(stage) = &mut w.contacts {
-                stage.set_gathered_memories(memory::decode(&all));
+                let [memories] = unpack(&all);
+                stage.set_gathered_memories(memories);
             }
         }
     }
