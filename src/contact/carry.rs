@@ -38,6 +38,9 @@ pub(crate) trait Key: Copy + Ord {
     fn first(&self) -> u32;
     /// The key as messages name it.
     fn describe(&self) -> String;
+    /// The candidate it belongs to: a body pair, or a body and a wall.
+    #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
+    fn candidate(&self) -> (u32, u32);
 }
 
 /// A kind of record the carrying moves: fixed size, exact bytes.
@@ -70,6 +73,22 @@ pub(crate) fn place<R: Carried + Default>(
                 .map_or_else(R::default, |(_, m)| m)
         })
         .collect()
+}
+
+/// The entries of `entries` (sorted by key) whose candidate is one of
+/// `candidates` (sorted): what a sorted store keeps of a new list.
+#[cfg_attr(not(feature = "mpi"), allow(dead_code))]
+pub(crate) fn listed<R: Carried>(
+    candidates: &[(u32, u32)],
+    mut entries: Vec<Entry<R>>,
+) -> Vec<Entry<R>> {
+    let mut at = 0;
+    entries.retain(|(k, _)| {
+        let c = k.candidate();
+        at += candidates[at..].partition_point(|&p| p < c);
+        candidates.get(at) == Some(&c)
+    });
+    entries
 }
 
 /// The records of `keys` (aligned with them) with their keys, those that
@@ -168,6 +187,9 @@ mod tests {
         fn describe(&self) -> String {
             format!("({self})")
         }
+        fn candidate(&self) -> (u32, u32) {
+            (u32::from(*self / 10), u32::from(*self % 10))
+        }
     }
 
     impl Carried for Tag {
@@ -193,6 +215,24 @@ mod tests {
             assert_eq!(*c, map.get(k).map_or(Tag(0), |t| **t), "{k}");
         }
         assert_eq!(carried.iter().filter(|c| **c != Tag(0)).count(), 3);
+    }
+
+    /// Reference: membership by a linear search (an independent code path).
+    #[test]
+    fn a_sorted_store_keeps_the_entries_of_its_candidates() {
+        let e: Vec<(u16, Tag)> = [3u16, 4, 15, 17, 40, 41, 99]
+            .iter()
+            .map(|&k| (k, Tag(k as u8)))
+            .collect();
+        let candidates = [(0, 4), (1, 5), (1, 6), (4, 1), (8, 8)];
+        let kept = listed(&candidates, e.clone());
+        let want: Vec<_> = e
+            .into_iter()
+            .filter(|(k, _)| candidates.contains(&k.candidate()))
+            .collect();
+        assert_eq!(kept, want);
+        assert_eq!(kept.len(), 3);
+        assert_eq!(listed::<Tag>(&[], vec![(1, Tag(1))]), vec![]);
     }
 
     /// Entries written read back with the bytes they took, after what came

@@ -286,6 +286,10 @@ impl Key for ContactKey {
     fn describe(&self) -> String {
         format!("({}, {}, slot {})", self.a, self.b, self.slot)
     }
+
+    fn candidate(&self) -> (u32, u32) {
+        (self.a, self.b)
+    }
 }
 
 /// The record as a client of the carrying (`carry.rs`): its seven

@@ -38,6 +38,10 @@ impl Key for (u32, u32) {
     fn describe(&self) -> String {
         format!("({}, {})", self.0, self.1)
     }
+
+    fn candidate(&self) -> (u32, u32) {
+        *self
+    }
 }
 
 impl Carried for PairMemory {

@@ -26,6 +26,7 @@ use super::slabs::Slabs;
 use super::tally::{self, HitKey};
 use crate::body::BodyState;
 use crate::contact::broad::{skin_limit2, NeighbourList, SkinRef};
+use crate::contact::carry::listed;
 use crate::contact::fibre_fibre::PairMemory;
 use crate::contact::history::History;
 use crate::contact::memory::{entries, place, Entry};
@@ -178,14 +179,6 @@ impl<'c> RankStep<'c> {
         self.recvs = (0..self.comm.size)
             .map(|from| self.slabs.sends(from, me))
             .collect();
-        if let (Some(mut h), Some(stage)) = (records, &mut w.contacts) {
-            // Those of the contacts of the bodies this rank now owns.
-            let owner = &self.slabs.owner;
-            let mine = |i: u32| owner[i as usize] as usize == me;
-            h.walls.retain(|(k, _)| mine(k.a));
-            h.pairs.retain(|(k, _)| mine(k.a) || mine(k.b));
-            stage.set_history(h, stage.spring_energy());
-        }
         let Some(stage) = &w.contacts else { return };
         let (bodies, states) = (&scene.bodies, &w.states);
         let geoms: Vec<FibreGeom> = self
@@ -220,6 +213,8 @@ impl<'c> RankStep<'c> {
             .map(|&(a, k)| (local[a as usize], k))
             .filter(|&(a, _)| mine(a))
             .collect();
+        // Each kind of record takes those of the new candidates: the
+        // memories in the list's order, the records in their stores.
         list.memory = place(&list.pairs, memories);
         list.builds += 1;
         self.list = Some(list);
@@ -231,6 +226,13 @@ impl<'c> RankStep<'c> {
             .map(|(s, b)| geom(b, s).half_length);
         self.limit2 = skin_limit2(0.5 * stage.skin(), &self.built, h);
         self.clocks.rebuilds += 1;
+        if let (Some(h), Some(stage), Some(list)) = (records, &mut w.contacts, &self.list) {
+            let h = History {
+                walls: listed(&list.walls, h.walls),
+                pairs: listed(&list.pairs, h.pairs),
+            };
+            stage.set_history(h, stage.spring_energy());
+        }
     }
 
     /// The message ([`pack`]) of this rank's pair memories that `keep`
