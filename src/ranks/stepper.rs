@@ -20,7 +20,7 @@
 //! the one-process order, so states, energies and guards are bit-identical
 //! to one process for any number of ranks.
 
-use super::carry::{pack, unpack};
+use super::carry::{Message, Received};
 use super::comm::Comm;
 use super::slabs::Slabs;
 use super::tally::{self, HitKey};
@@ -140,27 +140,17 @@ impl<'c> RankStep<'c> {
     /// contacts' records.
     fn decompose(&mut self, w: &mut World) {
         let scene = w.scene;
-        // The pairs' touching memories, while the old slabs and list hold:
-        // at the start the one-process stage's (its step 0, or a resume's),
-        // then every rank's.
-        let memories = match (&w.contacts, &self.list) {
-            (None, _) => vec![],
-            (Some(stage), None) => stage.touching_memories(),
-            (Some(_), Some(_)) => {
-                let mine = self.owned_memories(PairMemory::is_touching);
-                let [all] = unpack(&self.comm.all_gather_any(&mine));
-                all
+        // The pairs' touching memories and the contacts' records, while
+        // the old slabs and list hold: at the start the one-process stage's
+        // (its step 0, or a resume's; it keeps its records), then every
+        // rank's.
+        let (memories, records) = match (&w.contacts, &self.list) {
+            (None, _) => (vec![], None),
+            (Some(stage), None) => (stage.touching_memories(), None),
+            (Some(stage), Some(_)) => {
+                let mine = self.owned(stage.history(), PairMemory::is_touching);
+                received(&self.comm.all_gather_any(&mine), stage.history().is_some())
             }
-        };
-        // The contacts' records, likewise: at the start the stage's (every
-        // contact's), then every rank's own.
-        let records = match (w.contacts.as_ref().and_then(|c| c.history()), &self.list) {
-            (Some(h), Some(_)) => {
-                let mine = self.owned_records(h);
-                let [walls, pairs] = unpack(&self.comm.all_gather_any(&mine));
-                Some(History { walls, pairs })
-            }
-            _ => None,
         };
         let centres: Vec<DVec3> = w.states.iter().map(|s| s.x).collect();
         let slabs = Slabs::new(&centres, self.comm.size, self.width);
@@ -235,25 +225,23 @@ impl<'c> RankStep<'c> {
         }
     }
 
-    /// The message ([`pack`]) of this rank's pair memories that `keep`
-    /// accepts, of the pairs whose first body it owns (each pair is some
-    /// rank's once).
-    fn owned_memories(&self, keep: fn(&PairMemory) -> bool) -> Vec<f64> {
+    /// This rank's message of what its contacts keep: its pair memories
+    /// that `keep` accepts, then the records of `history` (a law that
+    /// keeps them), each entry by the owner of its first body (each is
+    /// some rank's once).
+    fn owned(&self, history: Option<&History>, keep: fn(&PairMemory) -> bool) -> Vec<f64> {
         let (owner, me) = (&self.slabs.owner, self.rank());
         let mine = |i: u32| owner[i as usize] as usize == me;
+        let mut msg = Message::default();
         match &self.list {
-            Some(list) => pack([entries(&list.pairs, &list.memory, keep)], mine),
-            None => pack::<PairMemory>([std::iter::empty::<Entry>()], mine),
+            Some(list) => msg.add(entries(&list.pairs, &list.memory, keep), mine),
+            None => msg.add::<PairMemory>(std::iter::empty::<Entry>(), mine),
         }
-    }
-
-    /// The message ([`pack`]) of this rank's contacts' records in `h`:
-    /// each contact once, by the owner of its body A.
-    fn owned_records(&self, h: &History) -> Vec<f64> {
-        let (owner, me) = (&self.slabs.owner, self.rank());
-        pack([h.walls.iter().copied(), h.pairs.iter().copied()], |a| {
-            owner[a as usize] as usize == me
-        })
+        if let Some(h) = history {
+            msg.add(h.walls.iter().copied(), mine);
+            msg.add(h.pairs.iter().copied(), mine);
+        }
+        msg.words()
     }
 
     /// Every rank's owned states (and rotator state; with `loads`, the
@@ -689,22 +677,16 @@ impl<'s> Stepper<'s> for RankStep<'_> {
         // A checkpoint of a law that reads velocities keeps the last loads.
         let reads_motion = w.contacts.as_ref().is_some_and(|c| c.reads_motion());
         self.gather_states(w, false, reads_motion);
-        // The contacts' records a checkpoint keeps, on rank 0.
-        if let Some(h) = w.contacts.as_ref().and_then(|c| c.history()) {
-            let mine = self.owned_records(h);
-            if let Some((all, _)) = self.comm.gather(&mine) {
-                if let Some(stage) = &mut w.contacts {
-                    let [walls, pairs] = unpack(&all);
-                    stage.set_gathered_history(History { walls, pairs });
-                }
-            }
-        }
-        // The memories a checkpoint keeps, on rank 0.
-        let mine = self.owned_memories(PairMemory::kept_by_checkpoints);
+        // The memories and records a checkpoint keeps, on rank 0.
+        let history = w.contacts.as_ref().and_then(|c| c.history());
+        let mine = self.owned(history, PairMemory::kept_by_checkpoints);
         if let Some((all, _)) = self.comm.gather(&mine) {
             if let Some(stage) = &mut w.contacts {
-                let [memories] = unpack(&all);
+                let (memories, records) = received(&all, stage.history().is_some());
                 stage.set_gathered_memories(memories);
+                if let Some(h) = records {
+                    stage.set_gathered_history(h);
+                }
             }
         }
     }
@@ -712,4 +694,16 @@ impl<'s> Stepper<'s> for RankStep<'_> {
     fn whole_contact_stage(&self) -> bool {
         self.comm.size == 1
     }
+}
+
+/// The pair memories, and the contacts' records if `records`, of every
+/// rank's message ([`RankStep::owned`]).
+fn received(words: &[f64], records: bool) -> (Vec<Entry>, Option<History>) {
+    let mut got = Received::new(words);
+    let memories = got.take();
+    let records = records.then(|| History {
+        walls: got.take(),
+        pairs: got.take(),
+    });
+    (memories, records)
 }
