@@ -706,6 +706,66 @@ fn resume_of_a_frictional_mixed_bed_gives_the_same_bytes() {
     }
 }
 
+/// A checkpoint written by an earlier build (`tests/data/checkpoint-7-frictional/`,
+/// format 7, written by the build before the contacts' records and the
+/// pair memories shared one carrying mechanism): the frictional mixed bed
+/// of `common::packed_mixed_scene(3, 3, 4, 4e-4)` with its low walls moved
+/// in, μ = 0.4 body–body and 0.3 body–wall, one thread, rows every 20
+/// steps, checkpointed at step 1000 with pair memories, wall springs and
+/// pair springs live. Resumed by this build to step 1500, its energy rows
+/// are the bytes of this build's run straight through. (It fails when a
+/// resume drops the springs.)
+#[test]
+fn a_checkpoint_of_an_earlier_build_resumes_to_the_same_bytes() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/checkpoint-7-frictional");
+    let dir = tempfile::tempdir().unwrap();
+    let split = dir.path().join("s");
+    std::fs::create_dir(&split).unwrap();
+    for f in ["checkpoint.json", "checkpoint.1000.states", "energy.csv"] {
+        std::fs::copy(data.join(f), split.join(f)).unwrap();
+    }
+    let c: serde_json::Value =
+        serde_json::from_slice(&read_bytes(&split.join("checkpoint.json"))).unwrap();
+    assert_eq!(c["format"], "fibresim-checkpoint-7");
+    // What the states file carries: pair memories, then the wall and pair
+    // springs (a count, then the entries, each).
+    let states = read_bytes(&split.join("checkpoint.1000.states"));
+    let word = |at: usize| u64::from_le_bytes(states[at..at + 8].try_into().unwrap()) as usize;
+    let memories_at = 24 + 36 * (112 + 8 * word(16) + 48);
+    let walls_at = springs_at(&states);
+    let pairs_at = walls_at + 8 + ENTRY * word(walls_at);
+    assert_eq!(
+        (word(memories_at), word(walls_at), word(pairs_at)),
+        (5, 10, 29),
+        "memories, wall springs, pair springs"
+    );
+    let scene = dir.path().join("bed.toml");
+    std::fs::write(&scene, c["scenario_text"].as_str().unwrap()).unwrap();
+    let whole = dir.path().join("w");
+    ok(fibresim(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--out",
+        whole.to_str().unwrap(),
+        "--t-end",
+        "1.5e-3",
+        "--every",
+        "20",
+        "--threads",
+        "1",
+        "-q",
+    ]));
+    resume_to(
+        &split.join("checkpoint.json"),
+        "1.5e-3",
+        &["--threads", "1"],
+    );
+    assert!(
+        read_bytes(&whole.join("energy.csv")) == read_bytes(&split.join("energy.csv")),
+        "energy.csv of the resumed run differs"
+    );
+}
+
 /// Bytes of a contact's record in a states file: `u32` a, `u32` b, `u8`
 /// slot, the spring's three `f64`, the place's three and the weight.
 const ENTRY: usize = 9 + 8 * 7;
