@@ -707,8 +707,7 @@ fn resume_of_a_frictional_mixed_bed_gives_the_same_bytes() {
 }
 
 /// A checkpoint written by an earlier build (`tests/data/checkpoint-7-frictional/`,
-/// format 7, written by the build before the contacts' records and the
-/// pair memories shared one carrying mechanism): the frictional mixed bed
+/// format 7, by commit 3bc40d3): the frictional mixed bed
 /// of `common::packed_mixed_scene(3, 3, 4, 4e-4)` with its low walls moved
 /// in, μ = 0.4 body–body and 0.3 body–wall, one thread, rows every 20
 /// steps, checkpointed at step 1000 with pair memories, wall springs and
