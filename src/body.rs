@@ -233,6 +233,24 @@ pub struct Bodies {
     lookup: std::collections::HashMap<BodyBits, u32>,
 }
 
+/// Each body's entry in the distinct values of a [`Bodies`]
+/// ([`Bodies::index`]), read as [`Bodies::kind`] reads it, without the
+/// bodies: the row of body `i` in a table with one row per distinct value.
+#[derive(Debug, Clone, Copy)]
+pub struct ValueIndex<'a> {
+    kind_of: &'a [u32],
+    mask: usize,
+}
+
+impl ValueIndex<'_> {
+    /// Body `i`'s entry (any `i` while every body is the same; the
+    /// caller's own per-body arrays bound it).
+    #[inline(always)]
+    pub fn of(self, i: usize) -> usize {
+        self.kind_of[i & self.mask] as usize
+    }
+}
+
 /// Every number of a [`Body`], as bits (its identity in [`Bodies`]).
 type BodyBits = [u64; 13];
 
@@ -311,6 +329,17 @@ impl Bodies {
     /// The distinct values, in order of first appearance.
     pub fn kinds(&self) -> &[Body] {
         &self.kinds
+    }
+
+    /// Each body's entry in [`Bodies::kinds`], for a table kept beside it
+    /// with one row per distinct value (what a stage derives from the
+    /// constants, kept once per value too).
+    #[inline]
+    pub fn index(&self) -> ValueIndex<'_> {
+        ValueIndex {
+            kind_of: &self.kind_of,
+            mask: self.mask,
+        }
     }
 
     /// Every body's constants, in storage order.

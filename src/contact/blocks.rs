@@ -33,9 +33,9 @@ use super::history::{
     Recalled,
 };
 use super::law::{CandidateLaw, Keeping, Laws, PointLoad, Record, Side, Wrench};
-use super::shape::{collider, ColliderKind};
+use super::shape::{ColliderKind, ColliderPose, Shapes};
 use super::stage::ContactStats;
-use super::{contacts, Collider, ContactPoint, FibreGeom, KernelCounters, SphereGeom, Wall};
+use super::{contacts, Collider, ContactPoint, KernelCounters, SphereGeom, Wall};
 use glam::DVec3;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Mutex, MutexGuard, PoisonError};
@@ -473,34 +473,33 @@ trait Candidates<'l>: Sync {
     }
 }
 
-/// What both lists read: the bodies' geometry records and collider kinds
-/// (all spheres if `S` says so), and the laws.
+/// What both lists read: the bodies' collider poses and shapes (all
+/// spheres if `S` says so), and the laws.
 #[derive(Clone, Copy)]
 struct Scene<'a, 'l, F, S> {
-    geoms: &'a [FibreGeom],
-    kinds: &'a [ColliderKind],
+    poses: &'a [ColliderPose],
+    shapes: Shapes<'a>,
     laws: &'a Laws<'l, F>,
-    shapes: std::marker::PhantomData<S>,
+    kinds: std::marker::PhantomData<S>,
 }
 
 impl<'l, F: Keeping, S: Kinds> Scene<'_, 'l, F, S> {
-    /// Body `i`'s collider.
+    /// Body `i`'s collider: its shape at its pose.
     #[inline(always)]
-    fn collider(&self, i: usize) -> Collider<'_> {
+    fn collider(&self, i: usize) -> Collider<'static> {
         if S::SPHERES {
             Collider::Sphere(self.sphere(i))
         } else {
-            collider(self.kinds[i], &self.geoms[i])
+            self.shapes.collider(i, &self.poses[i])
         }
     }
 
     /// Body `i` as a sphere (`S::SPHERES`).
     #[inline(always)]
     fn sphere(&self, i: usize) -> SphereGeom {
-        let g = &self.geoms[i];
         SphereGeom {
-            centre: g.centre,
-            radius: g.radius,
+            centre: self.poses[i].centre,
+            radius: self.shapes.get(i).radius,
         }
     }
 
@@ -509,14 +508,14 @@ impl<'l, F: Keeping, S: Kinds> Scene<'_, 'l, F, S> {
     fn side(&self, i: usize) -> Side {
         Side {
             index: i,
-            centre: self.geoms[i].centre,
+            centre: self.poses[i].centre,
         }
     }
 
     /// Body `i` as `(index, diameter)`.
     #[inline(always)]
     fn body(&self, i: usize) -> (usize, f64) {
-        (i, 2.0 * self.geoms[i].radius)
+        (i, 2.0 * self.shapes.get(i).radius)
     }
 }
 
@@ -566,11 +565,11 @@ impl<'l, F: Keeping, S: Kinds> Candidates<'l> for WallList<'_, 'l, F, S> {
     /// A fibre's end (0: the one at `−axis`, 1: at `+axis`), a sphere's 0.
     #[inline(always)]
     fn key(&self, &(i, w): &(u32, u32), _: usize, p: &ContactPoint) -> ContactKey {
-        let g = &self.scene.geoms[i as usize];
+        let g = &self.scene.poses[i as usize];
         let kind = if S::SPHERES {
             ColliderKind::Sphere
         } else {
-            self.scene.kinds[i as usize]
+            self.scene.shapes.get(i as usize).kind
         };
         let end = match kind {
             ColliderKind::Fibre => u8::from((p.point - g.centre).dot(g.axis) > 0.0),
@@ -694,8 +693,9 @@ impl<K, F, S> PairList<'_, '_, K, F, S> {
     /// "Identity and history": beyond a split wrench's lever, within two).
     #[inline(always)]
     fn reach(&self, a: u32, b: u32) -> (DVec3, f64) {
-        let (ga, gb) = (&self.scene.geoms[a as usize], &self.scene.geoms[b as usize]);
-        (ga.centre, 1.5 * ga.radius.min(gb.radius))
+        let shapes = self.scene.shapes;
+        let (ra, rb) = (shapes.get(a as usize).radius, shapes.get(b as usize).radius);
+        (self.scene.poses[a as usize].centre, 1.5 * ra.min(rb))
     }
 }
 
@@ -1088,8 +1088,8 @@ pub(crate) type Dissipative<'a> = (&'a mut [DVec3], &'a mut [DVec3]);
 impl Blocks {
     /// The contact forces and torques of every body (overwritten), and the
     /// scene statistics, from the candidates of `list` at the bodies'
-    /// `geoms` of collider `kinds` (all spheres if `spheres`; their pairs' memories spending the bodies' `motion`
-    /// bounds), the `walls` and the `laws`, on `workers` threads (the
+    /// collider `poses` of collider `shapes` (all spheres if `spheres`;
+    /// their pairs' memories spending the bodies' `motion` bounds), the `walls` and the `laws`, on `workers` threads (the
     /// same bits for any number); with `dissipative`, the laws'
     /// non-conservative loads per body too; with `history` (a law that
     /// keeps records), each contact's record read from it and the new
@@ -1101,13 +1101,7 @@ impl Blocks {
         &mut self,
         kernel: &K,
         list: &mut NeighbourList,
-        (geoms, kinds, spheres, motion, walls): (
-            &[FibreGeom],
-            &[ColliderKind],
-            bool,
-            &[f32],
-            &[Wall],
-        ),
+        (poses, shapes, spheres, motion, walls): (&[ColliderPose], Shapes, bool, &[f32], &[Wall]),
         laws: &Laws<F>,
         (force, torque): (&mut [DVec3], &mut [DVec3]),
         counters: &mut KernelCounters,
@@ -1188,11 +1182,13 @@ impl Blocks {
             direct,
         };
         // A scene of spheres only is looped as such (`Kinds`).
-        debug_assert_eq!(spheres, kinds.iter().all(|&k| k == ColliderKind::Sphere));
+        debug_assert!(
+            !spheres || (0..poses.len()).all(|i| shapes.get(i).kind == ColliderKind::Sphere)
+        );
         let kept_walls = if spheres {
-            self.lists::<K, F, Spheres>(lists, geoms, kinds, laws, &mut sums)
+            self.lists::<K, F, Spheres>(lists, poses, shapes, laws, &mut sums)
         } else {
-            self.lists::<K, F, AnyKinds>(lists, geoms, kinds, laws, &mut sums)
+            self.lists::<K, F, AnyKinds>(lists, poses, shapes, laws, &mut sums)
         };
         if let Some((h, mut old)) = recorded {
             h.walls = sorted(kept_walls);
@@ -1218,8 +1214,8 @@ impl Blocks {
     fn lists<K: PairKernel, F: Keeping, S: Kinds>(
         &mut self,
         l: Lists<'_, K>,
-        geoms: &[FibreGeom],
-        kinds: &[ColliderKind],
+        poses: &[ColliderPose],
+        shapes: Shapes,
         laws: &Laws<F>,
         sums: &mut Sums,
     ) -> Vec<Entry> {
@@ -1234,10 +1230,10 @@ impl Blocks {
             direct,
         } = l;
         let scene = Scene::<F, S> {
-            geoms,
-            kinds,
+            poses,
+            shapes,
             laws,
-            shapes: std::marker::PhantomData,
+            kinds: std::marker::PhantomData,
         };
         // Walls first, then pairs: each body's order.
         if !list.walls.is_empty() {
@@ -1302,12 +1298,12 @@ impl Blocks {
     pub(crate) fn for_each_hit(
         &self,
         list: &NeighbourList,
-        geoms: &[FibreGeom],
+        shapes: Shapes,
         mut f: impl FnMut(bool, u32, &mut dyn Iterator<Item = [f64; 3]>, &[f64]),
     ) {
         // With `keep_hits` the rings hold the whole list.
         let (walls, pairs) = (list.walls.len(), list.pairs.len());
-        let diameter = |i: u32| 2.0 * geoms[i as usize].radius;
+        let diameter = |i: u32| 2.0 * shapes.get(i as usize).radius;
         for (n, block) in self.wall_ring[..walls.div_ceil(BLOCK)]
             .iter()
             .map(lock)

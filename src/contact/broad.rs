@@ -11,7 +11,8 @@
 
 use super::fibre_fibre::{segment_closest_params, PairMemory};
 use super::memory::{entries, place};
-use super::{FibreGeom, Wall};
+use super::shape::{ColliderPose, Shapes};
+use super::Wall;
 use crate::body::Shape;
 use glam::{DQuat, DVec3};
 
@@ -382,34 +383,37 @@ impl NeighbourList {
         built.moved2(x, q, h) <= limit2
     }
 
-    /// Build the list for the fibres `geoms` at orientations `rotations`.
-    /// (Once per ~2000 steps: kept out of the stage's per-step code.)
+    /// Build the list for the bodies at `poses`, of collider `shapes`,
+    /// at orientations `rotations`. (Once per ~2000 steps: kept out of the
+    /// stage's per-step code.)
     #[inline(never)]
     pub(crate) fn build(
         &mut self,
-        geoms: &[FibreGeom],
+        poses: &[ColliderPose],
+        shapes: Shapes,
         rotations: impl Iterator<Item = DQuat>,
         walls: &[Wall],
     ) {
         self.builds += 1;
         self.built.clear();
         self.built.extend(
-            geoms
+            poses
                 .iter()
                 .zip(rotations)
-                .map(|(g, q)| SkinRef::at(g.centre, q)),
+                .map(|(p, q)| SkinRef::at(p.centre, q)),
         );
         self.limit2 = skin_limit2(
             self.half_skin,
             &self.built,
-            geoms.iter().map(|g| g.half_length),
+            (0..poses.len()).map(|i| shapes.get(i).half_length),
         );
         // The boxes live only through the build (memory per fibre).
         let mut boxes = std::mem::take(&mut self.boxes);
         boxes.clear();
-        boxes.extend(geoms.iter().map(|g| {
-            let (a, b) = segment_ends(g);
-            let grow = DVec3::splat(g.radius + self.half_skin);
+        boxes.extend(poses.iter().enumerate().map(|(i, p)| {
+            let shape = shapes.get(i);
+            let (a, b) = segment_ends(p, shape.half_length);
+            let grow = DVec3::splat(shape.radius + self.half_skin);
             (a.min(b) - grow, a.max(b) + grow)
         }));
         self.walls.clear();
@@ -427,7 +431,7 @@ impl NeighbourList {
             }
         }
         let old_pairs = std::mem::take(&mut self.pairs);
-        if geoms.len() <= BRUTE_FORCE_MAX {
+        if poses.len() <= BRUTE_FORCE_MAX {
             candidate_pairs_with(&boxes, &mut self.order, &mut self.pairs);
             self.boxes = boxes;
         } else {
@@ -438,14 +442,15 @@ impl NeighbourList {
         // the boxes of long fibres overlap far more often than the fibres
         // can (a margin covers the rounding of the closest points).
         let half_skin = self.half_skin;
+        let fibre = |i: u32| shapes.get(i as usize).fibre(&poses[i as usize]);
         self.pairs.retain(|&(i, j)| {
-            let (a, b) = (&geoms[i as usize], &geoms[j as usize]);
+            let (a, b) = (&fibre(i), &fibre(j));
             let (s, t) = segment_closest_params(a, b);
             let gap = (a.centre + s * a.axis).distance(b.centre + t * b.axis);
             let reach = a.radius + b.radius;
             gap <= reach + 2.0 * half_skin + 1e-6 * reach
         });
-        if geoms.len() > BRUTE_FORCE_MAX {
+        if poses.len() > BRUTE_FORCE_MAX {
             // The box pairs outnumber the kept ones several times over.
             self.pairs.shrink_to_fit();
         }
@@ -462,9 +467,10 @@ impl NeighbourList {
     }
 }
 
-/// Axis segment end points `c − h a`, `c + h a`.
+/// Axis segment end points `c − h a`, `c + h a` of a body at `p` of half
+/// length `h`.
 #[inline]
-fn segment_ends(g: &FibreGeom) -> (DVec3, DVec3) {
-    let h = g.half_length * g.axis;
-    (g.centre - h, g.centre + h)
+fn segment_ends(p: &ColliderPose, h: f64) -> (DVec3, DVec3) {
+    let h = h * p.axis;
+    (p.centre - h, p.centre + h)
 }

@@ -16,7 +16,7 @@ use super::{
 #[derive(Clone, Copy, Debug)]
 pub enum Collider<'a> {
     /// A fibre at its current pose.
-    Fibre(&'a FibreGeom),
+    Fibre(FibreGeom),
     /// A sphere at its current position.
     Sphere(SphereGeom),
     /// A wall of the box.
@@ -38,8 +38,10 @@ pub fn contacts(
 
 /// [`contacts`] with the pair's memory of its last end-involved scan and
 /// the sum of both bodies' motion bounds since (read by fibre pairs only,
-/// `fibre_fibre/coherence.rs`; the other kernels keep no memory).
-#[inline]
+/// `fibre_fibre/coherence.rs`; the other kernels keep no memory). Always
+/// inlined: a caller's colliders, made at the pair by value, then go to
+/// their kernel without being built.
+#[inline(always)]
 pub fn contacts_remembering(
     a: Collider,
     b: Collider,
@@ -49,26 +51,26 @@ pub fn contacts_remembering(
 ) {
     match (a, b) {
         (Collider::Fibre(a), Collider::Fibre(b)) => {
-            contact_fibre_fibre_remembering(a, b, out, counters, memory)
+            contact_fibre_fibre_remembering(&a, &b, out, counters, memory)
         }
         (Collider::Fibre(f), Collider::Sphere(s)) => {
-            contact_fibre_sphere(f, &s, out);
+            contact_fibre_sphere(&f, &s, out);
         }
         (Collider::Sphere(s), Collider::Fibre(f)) => {
-            contact_sphere_fibre(&s, f, out);
+            contact_sphere_fibre(&s, &f, out);
         }
         (Collider::Sphere(a), Collider::Sphere(b)) => {
             if let Some(p) = sphere_pair(&a, &b) {
                 out.push(p);
             }
         }
-        (Collider::Fibre(f), Collider::Wall(w)) => contact_fibre_wall(f, w, out),
+        (Collider::Fibre(f), Collider::Wall(w)) => contact_fibre_wall(&f, w, out),
         (Collider::Sphere(s), Collider::Wall(w)) => contact_sphere_wall(&s, w, out),
         // The same contacts seen from the wall: forces and the weights'
         // couples (zero for walls) act the other way.
         (Collider::Wall(w), Collider::Fibre(f)) => {
             let from = out.len();
-            contact_fibre_wall(f, w, out);
+            contact_fibre_wall(&f, w, out);
             reverse(&mut out[from..]);
         }
         (Collider::Wall(w), Collider::Sphere(s)) => {
@@ -121,8 +123,8 @@ mod tests {
         };
         let mut k = KernelCounters::default();
         let (mut ab, mut ba) = (vec![], vec![]);
-        contacts(Collider::Fibre(&f), Collider::Wall(&w), &mut ab, &mut k);
-        contacts(Collider::Wall(&w), Collider::Fibre(&f), &mut ba, &mut k);
+        contacts(Collider::Fibre(f), Collider::Wall(&w), &mut ab, &mut k);
+        contacts(Collider::Wall(&w), Collider::Fibre(f), &mut ba, &mut k);
         assert_eq!(ab.len(), 2, "both ends below the floor: {ab:?}");
         assert_eq!(ab.len(), ba.len());
         for (x, y) in ab.iter().zip(&ba) {
@@ -178,8 +180,8 @@ mod tests {
         assert!(sf.len() == 1 && ss.len() == 1 && sw.len() == 1);
         for (ab, ba, direct) in [
             (
-                call(Collider::Sphere(s), Collider::Fibre(&f), &mut k),
-                call(Collider::Fibre(&f), Collider::Sphere(s), &mut k),
+                call(Collider::Sphere(s), Collider::Fibre(f), &mut k),
+                call(Collider::Fibre(f), Collider::Sphere(s), &mut k),
                 &sf,
             ),
             (
@@ -206,7 +208,7 @@ mod tests {
             centre: DVec3::new(0.0, 0.0, 0.0095),
             radius: 0.004,
         };
-        assert!(call(Collider::Sphere(apart), Collider::Fibre(&f), &mut k).is_empty());
-        assert!(call(Collider::Fibre(&f), Collider::Sphere(apart), &mut k).is_empty());
+        assert!(call(Collider::Sphere(apart), Collider::Fibre(f), &mut k).is_empty());
+        assert!(call(Collider::Fibre(f), Collider::Sphere(apart), &mut k).is_empty());
     }
 }

@@ -9,8 +9,8 @@
 //! by finite differences in the tests), except on documented measure-zero
 //! switching sets.
 //!
-//! The pieces: [`shape`] gives each body its collider kind and geometry
-//! record; [`dispatch`] maps a kind pair to its kernel ([`fibre_fibre`],
+//! The pieces: [`shape`] gives each body its collider: a pose per body
+//! and a shape (kind, radius, half length) per distinct body value; [`dispatch`] maps a kind pair to its kernel ([`fibre_fibre`],
 //! [`fibre_wall`], [`sphere_sphere`], [`sphere_wall`], [`sphere_fibre`]); `law/` turns a contact point into
 //! its loads (the Hertz law [`hertz`], the restitution [`damping`]), its
 //! constants tabled once per pair of contact kinds; [`broad`] keeps the
@@ -52,7 +52,7 @@ pub use dispatch::{contacts, contacts_remembering, Collider};
 pub use fibre_fibre::{contact_fibre_fibre, contact_fibre_fibre_remembering, PairMemory};
 pub use fibre_wall::contact_fibre_wall;
 pub use hertz::HertzLaw;
-pub use shape::ColliderKind;
+pub use shape::{ColliderKind, ColliderPose, ColliderShape};
 pub use sphere::SphereGeom;
 pub use sphere_fibre::{
     contact_fibre_sphere, contact_sphere_fibre, sphere_fibre_depth, SphereFibreDepth,
@@ -64,9 +64,9 @@ pub use walls::{box_walls, Wall, Walls};
 
 use glam::DVec3;
 
-/// A fibre as the kernels see it: solid flat-ended cylinder. Also the
-/// contact stage's record of every body, a sphere's with zero half length
-/// (`shape.rs`).
+/// A fibre as the kernels see it: solid flat-ended cylinder. Assembled at
+/// a pair from the body's pose and its shape (`shape.rs`); the broad phase
+/// and the overlap check see a sphere as one of zero half length.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FibreGeom {
     /// Centre of mass (world).

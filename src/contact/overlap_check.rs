@@ -13,7 +13,7 @@
 //! the order of the O(N²) check it replaces (walls first by body, then pairs
 //! `(i, j)` lexicographically), so messages name the same bodies.
 
-use super::shape::{collider, geom, kinds};
+use super::shape::{shapes, ColliderPose, Shapes};
 use super::{box_walls, contacts, Collider, FibreGeom, KernelCounters, Walls};
 use crate::body::{Bodies, BodyState};
 use glam::DVec3;
@@ -32,13 +32,15 @@ pub(crate) fn first_overlap(
     walls: Option<&Walls>,
     tolerance: f64,
 ) -> Option<Overlap> {
-    let geoms: Vec<FibreGeom> = bodies
-        .par_iter()
-        .zip(states)
-        .map(|(b, s)| geom(b, s))
+    let table = shapes(bodies);
+    let shapes = Shapes::new(&table, bodies);
+    let geoms: Vec<FibreGeom> = (states.par_iter().enumerate())
+        .map(|(i, s)| {
+            let shape = shapes.get(i);
+            shape.fibre(&ColliderPose::of(shape.kind, s))
+        })
         .collect();
-    let kinds = kinds(bodies);
-    let body = |i: usize| collider(kinds[i], &geoms[i]);
+    let body = |i: usize| shapes.get(i).collider(&pose(&geoms[i]));
     let too_deep = |overlap: f64, d: f64| tolerance == 0.0 || overlap > tolerance * d;
     let walls = walls.map(box_walls).unwrap_or_default();
     // Walls: by body, in body order (cheap analytic kernel).
@@ -85,6 +87,14 @@ pub(crate) fn first_overlap(
             best
         })
         .min_by(|a, b| (a.0, a.1).cmp(&(b.0, b.1)))
+}
+
+/// The pose of the body of kernel record `g`.
+fn pose(g: &FibreGeom) -> ColliderPose {
+    ColliderPose {
+        centre: g.centre,
+        axis: g.axis,
+    }
 }
 
 /// The deepest overlap of a pair's contact points.
@@ -215,9 +225,14 @@ mod tests {
         walls: Option<&Walls>,
         tol: f64,
     ) -> Option<Overlap> {
-        let geoms: Vec<FibreGeom> = bodies.iter().zip(states).map(|(b, s)| geom(b, s)).collect();
-        let kinds = kinds(bodies);
-        let body = |i: usize| collider(kinds[i], &geoms[i]);
+        let geoms: Vec<FibreGeom> = bodies
+            .iter()
+            .zip(states)
+            .map(|(b, s)| crate::contact::shape::geom(b, s))
+            .collect();
+        let table = shapes(bodies);
+        let shapes = Shapes::new(&table, bodies);
+        let body = |i: usize| shapes.get(i).collider(&pose(&geoms[i]));
         let walls = walls.map(box_walls).unwrap_or_default();
         let mut pts = vec![];
         let mut k = KernelCounters::default();

@@ -12,13 +12,13 @@
 use super::blocks::{Blocks, Computed, Dissipative};
 use super::broad::NeighbourList;
 use super::damping::Restitution;
-use super::fibre_fibre::{dome_sag, PairMemory};
+use super::fibre_fibre::PairMemory;
 use super::history::History;
 use super::law::{Frictional, Frictionless, Keeping, LawTable, Laws};
 use super::ledger::WorkLedger;
 use super::memory::{entries, Entry};
 pub use super::shape::geom;
-use super::shape::{collider, kinds, ColliderKind};
+use super::shape::{shapes, ColliderKind, ColliderPose, ColliderShape, Shapes};
 use super::{box_walls, contacts, Collider, FibreGeom, KernelCounters, Wall, Walls};
 use crate::body::{Bodies, BodyState, Material};
 use glam::DVec3;
@@ -43,10 +43,11 @@ pub struct ContactStage {
     /// The six walls (none without a box).
     walls: Vec<Wall>,
     laws: LawTable,
-    /// Each body's geometry record (`shape.rs`) at the last computation.
-    geoms: Vec<FibreGeom>,
-    /// Each body's collider kind, by storage index.
-    kinds: Vec<ColliderKind>,
+    /// Each body's collider pose (`shape.rs`) at the last computation.
+    poses: Vec<ColliderPose>,
+    /// The collider shape of each distinct body value (`shape.rs`:
+    /// [`Shapes`] reads it by body).
+    shapes: Vec<ColliderShape>,
     /// Every body is a sphere (the candidate loop's `Spheres`).
     spheres: bool,
     neighbours: NeighbourList,
@@ -78,43 +79,38 @@ pub struct ContactStage {
 /// (fibres at ≤ 5 m/s, δt = 1e-7 s) rebuilds once per ~1500 steps.
 pub(crate) const SKIN_PER_DIAMETER: f64 = 0.2;
 
-/// Put `new` in place of `g`; the [`motion_bound`] between them.
+/// Put `new` in place of `p`; the motion bound between them
+/// ([`super::shape::motion_bound`]) of a body of reach `reach`.
 #[inline]
-fn move_to(g: &mut FibreGeom, new: FibreGeom) -> f32 {
-    let m = motion_bound(g, &new);
-    *g = new;
+fn move_to(p: &mut ColliderPose, new: ColliderPose, reach: f64) -> f32 {
+    let m = super::shape::motion_bound(p, &new, reach);
+    *p = new;
     m
 }
 
-/// Put `new` in place of `g`, and the [`motion_bound`] between them in
-/// `m` unless the scene has spheres only: the bounds are read by fibre
-/// pairs' memories only (`fibre_fibre/coherence.rs`), so a sphere scene's
-/// stay unknown (`INFINITY`) and cost nothing.
+/// Put `new` in place of `p`, and the motion bound between them in `m`
+/// unless the scene has spheres only: the bounds are read by fibre pairs'
+/// memories only (`fibre_fibre/coherence.rs`), so a sphere scene's stay
+/// unknown (`INFINITY`) and cost nothing.
 #[inline(always)]
-fn update(g: &mut FibreGeom, m: &mut f32, new: FibreGeom, spheres: bool) {
+fn update(p: &mut ColliderPose, m: &mut f32, new: ColliderPose, reach: f64, spheres: bool) {
     if spheres {
-        *g = new;
+        *p = new;
     } else {
-        *m = move_to(g, new);
+        *m = move_to(p, new, reach);
     }
 }
 
-/// A bound on how far any point of the body moved from `old` to `new`
-/// (so how much any of its support values changed): the centre's shift
-/// plus the farthest point's `ρ |Δa|` (the least rotation taking one axis
-/// to the other moves a point at distance ρ from the centre by ρ|Δa|).
-/// Rounded up to f32 (4 bytes a body).
+/// The stage's motion bound of a body (`shape.rs`), between two of its
+/// kernel records.
 #[inline]
 pub fn motion_bound(old: &FibreGeom, new: &FibreGeom) -> f32 {
-    let reach = new.half_length + dome_sag(new.radius);
-    let rho = (reach * reach + new.radius * new.radius).sqrt();
-    let m = old.centre.distance(new.centre) + rho * old.axis.distance(new.axis);
-    let r = m as f32;
-    if f64::from(r) < m {
-        r.next_up()
-    } else {
-        r
-    }
+    let pose = |g: &FibreGeom| ColliderPose {
+        centre: g.centre,
+        axis: g.axis,
+    };
+    let reach = ColliderShape::reach_of(new.radius, new.half_length);
+    super::shape::motion_bound(&pose(old), &pose(new), reach)
 }
 
 impl ContactStage {
@@ -128,8 +124,8 @@ impl ContactStage {
         ContactStage {
             walls: walls.map(box_walls).unwrap_or_default(),
             laws: LawTable::new(bodies, materials, walls),
-            geoms: Vec::with_capacity(bodies.len()),
-            kinds: kinds(bodies),
+            poses: Vec::with_capacity(bodies.len()),
+            shapes: shapes(bodies),
             spheres: bodies
                 .iter()
                 .all(|b| ColliderKind::of(&b.shape) == Some(ColliderKind::Sphere)),
@@ -259,9 +255,11 @@ impl ContactStage {
     /// memory left out (a fresh one) is made again by that computation's
     /// scan, as the run that wrote the checkpoint made it at this state.
     pub fn restore_memory(&mut self, memory: Vec<Entry>, bodies: &Bodies, states: &[BodyState]) {
-        self.geoms.clear();
-        self.geoms
-            .extend(bodies.iter().zip(states).map(|(b, s)| geom(b, s)));
+        let shapes = Shapes::new(&self.shapes, bodies);
+        self.poses.clear();
+        self.poses.extend(
+            (states.iter().enumerate()).map(|(i, s)| ColliderPose::of(shapes.get(i).kind, s)),
+        );
         let list = &mut self.neighbours;
         list.built.clear();
         (list.pairs, list.memory) = memory.into_iter().unzip();
@@ -283,8 +281,8 @@ impl ContactStage {
     /// the step itself keeps no per-body counts and pays nothing for them.
     #[cold]
     #[inline(never)]
-    pub fn touching_per_body(&self) -> Vec<u32> {
-        let mut count = vec![0u32; self.geoms.len()];
+    pub fn touching_per_body(&self, bodies: &Bodies) -> Vec<u32> {
+        let mut count = vec![0u32; self.poses.len()];
         let mut points = Vec::new();
         let mut counters = KernelCounters::default();
         let mut touch = |a: Collider, b: Collider| {
@@ -292,7 +290,8 @@ impl ContactStage {
             contacts(a, b, &mut points, &mut counters);
             !points.is_empty()
         };
-        let body = |i: usize| collider(self.kinds[i], &self.geoms[i]);
+        let shapes = Shapes::new(&self.shapes, bodies);
+        let body = |i: usize| shapes.collider(i, &self.poses[i]);
         for &(i, k) in &self.neighbours.walls {
             let (i, wall) = (i as usize, &self.walls[k as usize]);
             count[i] += touch(body(i), Collider::Wall(wall)) as u32;
@@ -344,8 +343,8 @@ impl ContactStage {
             &mut self.blocks,
             &mut self.neighbours,
             (
-                &self.geoms,
-                &self.kinds,
+                &self.poses,
+                Shapes::new(&self.shapes, bodies),
                 self.spheres,
                 &self.motion,
                 &self.walls,
@@ -368,58 +367,58 @@ impl ContactStage {
     fn update_geometry(&mut self, bodies: &Bodies, states: &[BodyState], pool: bool) {
         use rayon::prelude::*;
         let spheres = self.spheres;
-        self.geoms.resize(bodies.len(), FibreGeom::default());
+        let shapes = Shapes::new(&self.shapes, bodies);
+        self.poses.resize(bodies.len(), ColliderPose::default());
         self.motion.resize(bodies.len(), f32::INFINITY);
         let valid = if pool {
-            // Each body is tested at its new pose against the half length
-            // it keeps.
+            // Each body is tested at its new pose.
             let within = self.neighbours.within_skin(bodies.len());
-            self.geoms
+            self.poses
                 .par_iter_mut()
                 .zip(self.motion.par_iter_mut())
-                .zip(bodies.par_iter().zip(states.par_iter()))
+                .zip(states.par_iter())
                 .enumerate()
-                .map(|(i, ((g, m), (b, s)))| {
+                .map(|(i, ((p, m), s))| {
+                    let shape = shapes.get(i);
                     let kept = within
                         .as_ref()
-                        .is_some_and(|w| w(i, s.x, s.rot.q, g.half_length));
-                    update(g, m, geom(b, s), spheres);
+                        .is_some_and(|w| w(i, s.x, s.rot.q, shape.half_length));
+                    update(p, m, ColliderPose::of(shape.kind, s), shape.reach, spheres);
                     kept
                 })
                 .reduce(|| true, |x, y| x && y)
         } else {
-            let poses = states
-                .iter()
-                .zip(&self.geoms)
-                .map(|(s, g)| (s.x, s.rot.q, g.half_length));
+            let poses =
+                (states.iter().enumerate()).map(|(i, s)| (s.x, s.rot.q, shapes.get(i).half_length));
             let valid = self.neighbours.still_valid(poses);
             if valid {
                 if spheres {
-                    // A sphere's record moves with its centre only (its
-                    // radius, axis and half length are those of the last
-                    // full update, at the list's build).
+                    // A sphere's pose moves with its centre only (its axis
+                    // is the fixed one of the last full update).
                     for &i in &self.neighbours.active {
                         let i = i as usize;
-                        self.geoms[i].centre = states[i].x;
+                        self.poses[i].centre = states[i].x;
                     }
                 } else {
                     for &i in &self.neighbours.active {
                         let i = i as usize;
-                        let new = geom(&bodies[i], &states[i]);
-                        self.motion[i] = move_to(&mut self.geoms[i], new);
+                        let shape = shapes.get(i);
+                        let new = ColliderPose::of(shape.kind, &states[i]);
+                        self.motion[i] = move_to(&mut self.poses[i], new, shape.reach);
                     }
                 }
             } else {
-                let each = self.geoms.iter_mut().zip(&mut self.motion).zip(states);
-                for (i, ((g, m), s)) in each.enumerate() {
-                    update(g, m, geom(&bodies[i], s), spheres);
+                let each = self.poses.iter_mut().zip(&mut self.motion).zip(states);
+                for (i, ((p, m), s)) in each.enumerate() {
+                    let shape = shapes.get(i);
+                    update(p, m, ColliderPose::of(shape.kind, s), shape.reach, spheres);
                 }
             }
             valid
         };
         if !valid {
             let rotations = states.iter().map(|s| s.rot.q);
-            self.neighbours.build(&self.geoms, rotations, &self.walls);
+            (self.neighbours).build(&self.poses, shapes, rotations, &self.walls);
         }
     }
 }
@@ -432,7 +431,7 @@ impl ContactStage {
 fn candidate_loop<F: Keeping>(
     blocks: &mut Blocks,
     list: &mut NeighbourList,
-    scene: (&[FibreGeom], &[ColliderKind], bool, &[f32], &[Wall]),
+    scene: (&[ColliderPose], Shapes, bool, &[f32], &[Wall]),
     laws: &Laws<F>,
     loads: (&mut [DVec3], &mut [DVec3]),
     counters: &mut KernelCounters,
@@ -532,13 +531,10 @@ impl ContactStats {
 impl ContactStage {
     /// Body `i`'s motion bound from its geometry at the last computation
     /// to `state` (the one-process stage's, for the rank that owns it).
-    pub(crate) fn motion_since_last(
-        &self,
-        i: usize,
-        body: &crate::body::Body,
-        state: &BodyState,
-    ) -> f32 {
-        motion_bound(&self.geoms[i], &geom(body, state))
+    pub(crate) fn motion_since_last(&self, i: usize, bodies: &Bodies, state: &BodyState) -> f32 {
+        let shape = Shapes::new(&self.shapes, bodies).get(i);
+        let new = ColliderPose::of(shape.kind, state);
+        super::shape::motion_bound(&self.poses[i], &new, shape.reach)
     }
 
     /// The touching pair memories of this stage's own list (every
@@ -594,6 +590,12 @@ impl ContactStage {
         }
     }
 
+    /// Each body's collider shape (`shape.rs`), `bodies` being the
+    /// stage's.
+    pub(crate) fn shapes<'a>(&'a self, bodies: &'a Bodies) -> Shapes<'a> {
+        Shapes::new(&self.shapes, bodies)
+    }
+
     /// The box walls, in the order the neighbour list numbers them.
     pub(crate) fn walls(&self) -> &[Wall] {
         &self.walls
@@ -623,11 +625,12 @@ impl ContactStage {
         force: &mut [DVec3],
         torque: &mut [DVec3],
     ) {
-        self.geoms.resize(bodies.len(), FibreGeom::default());
+        let shapes = Shapes::new(&self.shapes, bodies);
+        self.poses.resize(bodies.len(), ColliderPose::default());
         self.motion.resize(bodies.len(), f32::INFINITY);
         for &i in local {
             let i = i as usize;
-            self.geoms[i] = geom(&bodies[i], &states[i]);
+            self.poses[i] = ColliderPose::of(shapes.get(i).kind, &states[i]);
             self.motion[i] = motion[i];
         }
         // The rank's share of the springs' energy is not this stage's: rank
@@ -653,8 +656,8 @@ impl ContactStage {
             &mut self.blocks,
             list,
             (
-                &self.geoms,
-                &self.kinds,
+                &self.poses,
+                Shapes::new(&self.shapes, bodies),
                 self.spheres,
                 &self.motion,
                 &self.walls,
@@ -681,9 +684,11 @@ impl ContactStage {
     pub(crate) fn for_each_hit(
         &self,
         list: &NeighbourList,
+        bodies: &Bodies,
         f: impl FnMut(bool, u32, &mut dyn Iterator<Item = [f64; 3]>, &[f64]),
     ) {
-        self.blocks.for_each_hit(list, &self.geoms, f);
+        let shapes = Shapes::new(&self.shapes, bodies);
+        self.blocks.for_each_hit(list, shapes, f);
     }
 }
 
@@ -810,7 +815,11 @@ mod tests {
         let (mut points, mut counters) = (Vec::<ContactPoint>::new(), KernelCounters::default());
         let table = stage.laws.clone();
         let laws = Laws::<Frictionless>::new(&table, bodies, states);
-        let geoms = stage.geoms.clone();
+        let shapes = Shapes::new(&stage.shapes, bodies);
+        let geoms: Vec<FibreGeom> = (stage.poses.iter().enumerate())
+            .map(|(i, p)| shapes.get(i).fibre(p))
+            .collect();
+        let collider = |i: usize| shapes.collider(i, &stage.poses[i]);
         let side = |i: usize| Side {
             index: i,
             centre: geoms[i].centre,
@@ -845,8 +854,7 @@ mod tests {
             let i = i as usize;
             points.clear();
             let wall = Collider::Wall(&stage.walls[k as usize]);
-            let body = collider(stage.kinds[i], &geoms[i]);
-            contacts(body, wall, &mut points, &mut counters);
+            contacts(collider(i), wall, &mut points, &mut counters);
             add(&laws.wall(side(i)), &points, i, None);
         }
         let list = &mut stage.neighbours;
@@ -854,8 +862,7 @@ mod tests {
             let (a, b) = (a as usize, b as usize);
             let motion = f64::from(stage.motion[a]) + f64::from(stage.motion[b]);
             points.clear();
-            let kinds = &stage.kinds;
-            let (fa, fb) = (collider(kinds[a], &geoms[a]), collider(kinds[b], &geoms[b]));
+            let (fa, fb) = (collider(a), collider(b));
             contacts_remembering(fa, fb, &mut points, &mut counters, Some((memory, motion)));
             add(&laws.pair(side(a), side(b)), &points, a, Some(b));
         }

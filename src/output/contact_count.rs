@@ -16,7 +16,7 @@ use glam::DVec3;
 pub fn contacts_of_world(world: &World) -> Vec<u32> {
     world.contacts.as_ref().map_or_else(
         || vec![0; world.states.len()],
-        ContactStage::touching_per_body,
+        |c| c.touching_per_body(&world.scene.bodies),
     )
 }
 
@@ -32,5 +32,5 @@ pub fn contacts_at(scene: &Scene, states: &[BodyState]) -> Vec<u32> {
         vec![DVec3::ZERO; states.len()],
     );
     stage.compute(&scene.bodies, states, &mut f, &mut t);
-    stage.touching_per_body()
+    stage.touching_per_body(&scene.bodies)
 }

@@ -24,14 +24,14 @@ use super::carry::{Message, Received};
 use super::comm::Comm;
 use super::slabs::Slabs;
 use super::tally::{self, HitKey};
-use crate::body::BodyState;
+use crate::body::{Bodies, BodyState};
 use crate::contact::broad::{skin_limit2, NeighbourList, SkinRef};
 use crate::contact::carry::listed;
 use crate::contact::fibre_fibre::PairMemory;
 use crate::contact::history::History;
 use crate::contact::memory::{entries, place, Entry};
-use crate::contact::stage::{geom, ContactStats};
-use crate::contact::FibreGeom;
+use crate::contact::shape::{shapes, ColliderPose, Shapes};
+use crate::contact::stage::ContactStats;
 use crate::energy::Ledger;
 use crate::integrate::rotate::{AuxState, Rotator, RotatorFault};
 use crate::integrate::scheme::Stage;
@@ -171,16 +171,19 @@ impl<'c> RankStep<'c> {
             .collect();
         let Some(stage) = &w.contacts else { return };
         let (bodies, states) = (&scene.bodies, &w.states);
-        let geoms: Vec<FibreGeom> = self
-            .local
-            .iter()
-            .map(|&i| geom(&bodies[i as usize], &states[i as usize]))
+        // The local bodies' constants and collider shapes (by local index).
+        let local_bodies: Bodies = self.local.iter().map(|&i| bodies[i as usize]).collect();
+        let table = shapes(&local_bodies);
+        let local_shapes = Shapes::new(&table, &local_bodies);
+        let poses: Vec<ColliderPose> = (self.local.iter().enumerate())
+            .map(|(k, &i)| ColliderPose::of(local_shapes.get(k).kind, &states[i as usize]))
             .collect();
         // The one-process build on the local bodies: local order is global
         // order, and whether a pair or a wall is listed depends on it alone.
         let mut local_list = NeighbourList::new(stage.skin());
         local_list.build(
-            &geoms,
+            &poses,
+            local_shapes,
             self.local.iter().map(|&i| states[i as usize].rot.q),
             stage.walls(),
         );
@@ -209,11 +212,8 @@ impl<'c> RankStep<'c> {
         list.builds += 1;
         self.list = Some(list);
         self.built = w.states.iter().map(|s| SkinRef::at(s.x, s.rot.q)).collect();
-        let h = w
-            .states
-            .iter()
-            .zip(bodies)
-            .map(|(s, b)| geom(b, s).half_length);
+        let all = stage.shapes(bodies);
+        let h = (0..w.states.len()).map(|i| all.get(i).half_length);
         self.limit2 = skin_limit2(0.5 * stage.skin(), &self.built, h);
         self.clocks.rebuilds += 1;
         if let (Some(h), Some(stage), Some(list)) = (records, &mut w.contacts, &self.list) {
@@ -343,16 +343,17 @@ impl<'c> RankStep<'c> {
             return;
         };
         let me = self.rank();
+        let shapes = stage.shapes(&w.scene.bodies);
         let moved = self.slabs.owned[me].iter().any(|&i| {
             let s = &w.states[i as usize];
-            let h = geom(&w.scene.bodies[i as usize], s).half_length;
+            let h = shapes.get(i as usize).half_length;
             !NeighbourList::body_within_skin(s.x, s.rot.q, h, &self.built[i as usize], self.limit2)
         });
         let (bodies, states) = (&w.scene.bodies, &w.states);
         self.motion.resize(states.len(), f32::INFINITY);
         for &i in &self.slabs.owned[me] {
             let i = i as usize;
-            self.motion[i] = stage.motion_since_last(i, &bodies[i], &states[i]);
+            self.motion[i] = stage.motion_since_last(i, bodies, &states[i]);
         }
         if self.comm.any(moved) {
             // Every body's motion from its owner (before the slabs move).
@@ -482,7 +483,7 @@ impl<'c> RankStep<'c> {
             let owner = &self.slabs.owner;
             let msg = &mut self.msg;
             let mut hits = Vec::new();
-            stage.for_each_hit(list, |wall, c, points, springs| {
+            stage.for_each_hit(list, &w.scene.bodies, |wall, c, points, springs| {
                 let key = if wall {
                     let (a, k) = list.walls[c as usize];
                     HitKey {

@@ -62,9 +62,10 @@ impl Settle {
             return false;
         }
         match (&w.contacts, w.scene.gravity) {
-            (Some(stage), Some(g)) if g != glam::DVec3::ZERO => {
-                stage.touching_per_body().iter().all(|&n| n > 0)
-            }
+            (Some(stage), Some(g)) if g != glam::DVec3::ZERO => stage
+                .touching_per_body(&w.scene.bodies)
+                .iter()
+                .all(|&n| n > 0),
             _ => true,
         }
     }

@@ -8,7 +8,7 @@
 use crate::common;
 use common::scene_str;
 use fibresim::body::BodyState;
-use fibresim::contact::shape::{collider, geom, ColliderKind};
+use fibresim::contact::shape::{geom, ColliderKind, ColliderPose, ColliderShape};
 use fibresim::contact::stage::motion_bound;
 use fibresim::contact::{
     box_walls, contacts, contacts_remembering, Collider, FibreGeom, HertzLaw, KernelCounters,
@@ -40,6 +40,10 @@ fn full_search(
     let (mut force, mut torque, mut elastic) = (vec![DVec3::ZERO; n], vec![DVec3::ZERO; n], 0.0);
     let geom = |i: usize| geom(&scene.bodies[i], &states[i]);
     let kind = |i: usize| ColliderKind::of(&scene.bodies[i].shape).unwrap();
+    let collider = |i: usize| {
+        let shape = ColliderShape::of(&scene.bodies[i]);
+        shape.collider(&ColliderPose::of(shape.kind, &states[i]))
+    };
     let walls = box_walls(scene.walls.as_ref().unwrap());
     let w = scene.walls.as_ref().unwrap();
     let mut pts = vec![];
@@ -68,13 +72,7 @@ fn full_search(
         }(2.0 * geom(i).radius, b.young, b.poisson, w.young, w.poisson);
         for wall in &walls {
             pts.clear();
-            let g = geom(i);
-            contacts(
-                collider(kind(i), &g),
-                Collider::Wall(wall),
-                &mut pts,
-                counters,
-            );
+            contacts(collider(i), Collider::Wall(wall), &mut pts, counters);
             add(&pts, law, (geom(i), i), None);
         }
     }
@@ -87,8 +85,7 @@ fn full_search(
             pts.clear();
             let memory = memories.pairs.entry((i, j)).or_default();
             let m = Some((memory, motion[i] + motion[j]));
-            let (gi, gj) = (geom(i), geom(j));
-            let (ci, cj) = (collider(kind(i), &gi), collider(kind(j), &gj));
+            let (ci, cj) = (collider(i), collider(j));
             contacts_remembering(ci, cj, &mut pts, counters, m);
             // The law of the two kinds (a sphere–fibre law takes the sphere
             // first; hertz_spheres.rs).

@@ -381,11 +381,11 @@ trajectory_every = 2000
             !p.is_empty()
         };
         let (g0, g1) = (geom(0), geom(1));
-        let pair = touch(Collider::Fibre(&g0), Collider::Fibre(&g1)) as u32;
+        let pair = touch(Collider::Fibre(g0), Collider::Fibre(g1)) as u32;
         let on_walls = |g: &FibreGeom| {
             walls
                 .iter()
-                .filter(|w| touch(Collider::Fibre(g), Collider::Wall(w)))
+                .filter(|w| touch(Collider::Fibre(*g), Collider::Wall(w)))
                 .count() as u32
         };
         let want = [pair + on_walls(&g0), pair + on_walls(&g1)];
