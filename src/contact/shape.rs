@@ -53,13 +53,23 @@ impl ColliderKind {
 
 /// Where a body's collider is, the one record the contact stage keeps per
 /// body: its centre and its unit symmetry axis (body x) in world
-/// coordinates (a sphere's is the fixed `x`).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// coordinates (a sphere's is the fixed `x`; by default, at the origin
+/// along `x`).
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ColliderPose {
     /// Centre of mass (world).
     pub centre: DVec3,
     /// Unit symmetry axis (world).
     pub axis: DVec3,
+}
+
+impl Default for ColliderPose {
+    fn default() -> Self {
+        ColliderPose {
+            centre: DVec3::ZERO,
+            axis: DVec3::X,
+        }
+    }
 }
 
 impl ColliderPose {

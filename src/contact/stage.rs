@@ -88,19 +88,6 @@ fn move_to(p: &mut ColliderPose, new: ColliderPose, reach: f64) -> f32 {
     m
 }
 
-/// Put `new` in place of `p`, and the motion bound between them in `m`
-/// unless the scene has spheres only: the bounds are read by fibre pairs'
-/// memories only (`fibre_fibre/coherence.rs`), so a sphere scene's stay
-/// unknown (`INFINITY`) and cost nothing.
-#[inline(always)]
-fn update(p: &mut ColliderPose, m: &mut f32, new: ColliderPose, reach: f64, spheres: bool) {
-    if spheres {
-        *p = new;
-    } else {
-        *m = move_to(p, new, reach);
-    }
-}
-
 /// The stage's motion bound of a body (`shape.rs`), between two of its
 /// kernel records.
 #[inline]
@@ -371,12 +358,21 @@ impl ContactStage {
         self.motion.resize(bodies.len(), f32::INFINITY);
         let within = self.neighbours.within_skin(bodies.len());
         let each = move |i: usize, p: &mut ColliderPose, m: &mut f32, s: &BodyState| {
+            if spheres {
+                // A sphere's pose moves with its centre only (its axis is
+                // the fixed one; its half length 0). The motion bounds are
+                // read by fibre pairs' memories only
+                // (`fibre_fibre/coherence.rs`), so a sphere scene's stay
+                // unknown (`INFINITY`) and cost nothing.
+                p.centre = s.x;
+                return within.as_ref().is_some_and(|w| w(i, p, 0.0));
+            }
             let shape = shapes.get(i);
             let new = ColliderPose::of(shape.kind, s);
             let kept = within
                 .as_ref()
                 .is_some_and(|w| w(i, &new, shape.half_length));
-            update(p, m, new, shape.reach, spheres);
+            *m = move_to(p, new, shape.reach);
             kept
         };
         let valid = if pool {
