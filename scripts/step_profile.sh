@@ -47,12 +47,16 @@ def per(name):
     return (two.get(name, 0) - one.get(name, 0)) / steps / bodies
 total = per("PROGRAM TOTALS")
 ff = "fibresim::contact::fibre_fibre::"
+# The dispatch, or, where it is inlined into the pair loop, its kernels'
+# functions (the fibre kernels; the sphere kernels are inlined too).
+kernels = per("fibresim::contact::dispatch::contacts_remembering") or (
+    per(ff + "contact_fibre_fibre_remembering") + per("fibresim::contact::fibre_wall::contact_fibre_wall"))
 rows = [
     ("the whole step", total),
     ("forces (the contact stage)", per("fibresim::contact::stage::ContactStage::compute")),
     ("  neighbour-list builds", per("fibresim::contact::broad::NeighbourList::build")),
     ("  the pair loop", per("fibresim::contact::blocks::Blocks::lists")),
-    ("    the kernels' dispatch and kernels", per("fibresim::contact::dispatch::contacts_remembering")),
+    ("    the kernels' dispatch and kernels", kernels),
     ("      fibre–fibre", per(ff + "contact_fibre_fibre_remembering")),
     ("        kept in their regime (one kernel)", per(ff + "end_involved::remembered_in_regime")),
     ("        end-involved through the dispatch", per(ff + "end_involved::penetration_smoothed")),
@@ -60,7 +64,6 @@ rows = [
 ]
 forces = per("fibresim::contact::stage::ContactStage::compute")
 loop = per("fibresim::contact::blocks::Blocks::lists")
-kernels = per("fibresim::contact::dispatch::contacts_remembering")
 rows[2] = ("  neighbour-list builds (in the window)", rows[2][1])
 rows.insert(4, ("    the pair loop less the kernels (candidates, laws, sums)", loop - kernels))
 rows.append(("integration and the rest (the step less the forces)", total - forces))
