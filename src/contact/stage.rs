@@ -88,6 +88,19 @@ fn move_to(p: &mut ColliderPose, new: ColliderPose, reach: f64) -> f32 {
     m
 }
 
+/// Put `new` in place of `p`, and the motion bound between them in `m`
+/// unless the scene has spheres only: the bounds are read by fibre pairs'
+/// memories only (`fibre_fibre/coherence.rs`), so a sphere scene's stay
+/// unknown (`INFINITY`) and cost nothing.
+#[inline(always)]
+fn update(p: &mut ColliderPose, m: &mut f32, new: ColliderPose, reach: f64, spheres: bool) {
+    if spheres {
+        *p = new;
+    } else {
+        *m = move_to(p, new, reach);
+    }
+}
+
 /// The stage's motion bound of a body (`shape.rs`), between two of its
 /// kernel records.
 #[inline]
@@ -346,52 +359,66 @@ impl ContactStage {
         )
     }
 
-    /// Each body's collider pose at `states` and its motion bound since
-    /// the last computation, and the neighbour list rebuilt if a body left
-    /// its skin: one pass over the bodies (on the pool if `pool`), each
-    /// tested at its new pose and then given it.
+    /// The kernels' geometry of the bodies at `states` and each body's
+    /// motion bound since the last computation, and the neighbour list
+    /// rebuilt if a body left its skin. One thread updates only the
+    /// bodies in a candidate while the list holds (the others' geometry is
+    /// not read); the pool tests and updates every body in one pass.
     fn update_geometry(&mut self, bodies: &Bodies, states: &[BodyState], pool: bool) {
         use rayon::prelude::*;
         let spheres = self.spheres;
         let shapes = Shapes::new(&self.shapes, bodies);
         self.poses.resize(bodies.len(), ColliderPose::default());
         self.motion.resize(bodies.len(), f32::INFINITY);
-        let within = self.neighbours.within_skin(bodies.len());
-        let each = move |i: usize, p: &mut ColliderPose, m: &mut f32, s: &BodyState| {
-            if spheres {
-                // A sphere's pose moves with its centre only (its axis is
-                // the fixed one; its half length 0). The motion bounds are
-                // read by fibre pairs' memories only
-                // (`fibre_fibre/coherence.rs`), so a sphere scene's stay
-                // unknown (`INFINITY`) and cost nothing.
-                p.centre = s.x;
-                return within.as_ref().is_some_and(|w| w(i, p, 0.0));
-            }
-            let shape = shapes.get(i);
-            let new = ColliderPose::of(shape.kind, s);
-            let kept = within
-                .as_ref()
-                .is_some_and(|w| w(i, &new, shape.half_length));
-            *m = move_to(p, new, shape.reach);
-            kept
-        };
         let valid = if pool {
-            (self.poses.par_iter_mut().zip(self.motion.par_iter_mut()))
+            // Each body is tested at its new pose.
+            let within = self.neighbours.within_skin(bodies.len());
+            self.poses
+                .par_iter_mut()
+                .zip(self.motion.par_iter_mut())
                 .zip(states.par_iter())
                 .enumerate()
-                .map(|(i, ((p, m), s))| each(i, p, m, s))
+                .map(|(i, ((p, m), s))| {
+                    let shape = shapes.get(i);
+                    let kept = within
+                        .as_ref()
+                        .is_some_and(|w| w(i, s.x, s.rot.q, shape.half_length));
+                    update(p, m, ColliderPose::of(shape.kind, s), shape.reach, spheres);
+                    kept
+                })
                 .reduce(|| true, |x, y| x && y)
         } else {
-            let mut valid = true;
-            let all = self.poses.iter_mut().zip(&mut self.motion).zip(states);
-            for (i, ((p, m), s)) in all.enumerate() {
-                valid &= each(i, p, m, s);
+            let poses =
+                (states.iter().enumerate()).map(|(i, s)| (s.x, s.rot.q, shapes.get(i).half_length));
+            let valid = self.neighbours.still_valid(poses);
+            if valid {
+                if spheres {
+                    // A sphere's pose moves with its centre only (its axis
+                    // is the fixed one of the last full update).
+                    for &i in &self.neighbours.active {
+                        let i = i as usize;
+                        self.poses[i].centre = states[i].x;
+                    }
+                } else {
+                    for &i in &self.neighbours.active {
+                        let i = i as usize;
+                        let shape = shapes.get(i);
+                        let new = ColliderPose::of(shape.kind, &states[i]);
+                        self.motion[i] = move_to(&mut self.poses[i], new, shape.reach);
+                    }
+                }
+            } else {
+                let each = self.poses.iter_mut().zip(&mut self.motion).zip(states);
+                for (i, ((p, m), s)) in each.enumerate() {
+                    let shape = shapes.get(i);
+                    update(p, m, ColliderPose::of(shape.kind, s), shape.reach, spheres);
+                }
             }
             valid
         };
-        drop(each);
         if !valid {
-            (self.neighbours).build(&self.poses, shapes, &self.walls);
+            let rotations = states.iter().map(|s| s.rot.q);
+            (self.neighbours).build(&self.poses, shapes, rotations, &self.walls);
         }
     }
 }

@@ -181,7 +181,12 @@ impl<'c> RankStep<'c> {
         // The one-process build on the local bodies: local order is global
         // order, and whether a pair or a wall is listed depends on it alone.
         let mut local_list = NeighbourList::new(stage.skin());
-        local_list.build(&poses, local_shapes, stage.walls());
+        local_list.build(
+            &poses,
+            local_shapes,
+            self.local.iter().map(|&i| states[i as usize].rot.q),
+            stage.walls(),
+        );
         let owner = &self.slabs.owner;
         let mine = |i: u32| owner[i as usize] as usize == me;
         let local = &self.local;
@@ -206,10 +211,8 @@ impl<'c> RankStep<'c> {
         list.memory = place(&list.pairs, memories);
         list.builds += 1;
         self.list = Some(list);
+        self.built = w.states.iter().map(|s| SkinRef::at(s.x, s.rot.q)).collect();
         let all = stage.shapes(bodies);
-        self.built = (w.states.iter().enumerate())
-            .map(|(i, s)| SkinRef::at(&ColliderPose::of(all.get(i).kind, s)))
-            .collect();
         let h = (0..w.states.len()).map(|i| all.get(i).half_length);
         self.limit2 = skin_limit2(0.5 * stage.skin(), &self.built, h);
         self.clocks.rebuilds += 1;
@@ -342,10 +345,9 @@ impl<'c> RankStep<'c> {
         let me = self.rank();
         let shapes = stage.shapes(&w.scene.bodies);
         let moved = self.slabs.owned[me].iter().any(|&i| {
-            let shape = shapes.get(i as usize);
-            let p = ColliderPose::of(shape.kind, &w.states[i as usize]);
-            let h = shape.half_length;
-            !NeighbourList::body_within_skin(&p, h, &self.built[i as usize], self.limit2)
+            let s = &w.states[i as usize];
+            let h = shapes.get(i as usize).half_length;
+            !NeighbourList::body_within_skin(s.x, s.rot.q, h, &self.built[i as usize], self.limit2)
         });
         let (bodies, states) = (&w.scene.bodies, &w.states);
         self.motion.resize(states.len(), f32::INFINITY);
