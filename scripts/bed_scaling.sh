@@ -78,13 +78,14 @@ for raw, label in (("ar3", "AR 3"), ("ar10", "AR 10"), ("ar3_column", "AR 3, 10^
         name = f"fibresim {label}, {t} thread{'s' if t > 1 else ''}"
         rows.append((name, r["fibres"], t, r["fibre_steps_per_s"], r["ns_per_fibre_step"],
                      r["parallel_efficiency"], r["touching_per_fibre"], r["heap_bytes_per_fibre"]))
-# The peers on a random settled bed of the AR-3 fibres, this machine (fixed
-# figures from an earlier run; scripts/peers.sh measures them afresh).
-for name, t, rate in (("LIGGGHTS 3.8 multisphere", 1, 1.23e6), ("LIGGGHTS 3.8 multisphere", 2, 2.23e6),
-                      ("LAMMPS rigid/small", 1, 1.49e6), ("LAMMPS rigid/small", 2, 2.57e6)):
+# The peers on their settled beds of the AR-3 fibres, this machine (the
+# medians of docs/peers.md "One run"; scripts/peers.sh measures them afresh).
+peers = (("LIGGGHTS 3.8 multisphere", 1, 1.607e6), ("LIGGGHTS 3.8 multisphere", 2, 2.958e6),
+         ("LAMMPS rigid/small", 1, 1.781e6), ("LAMMPS rigid/small", 2, 3.259e6))
+for name, t, rate in peers:
     rows.append((f"{name}, {t} process{'es' if t > 1 else ''}", 10000, t, rate, 1e9 / rate, "", "", ""))
-# The speed targets for the 10^4 bed, drawn across the range.
-for t, rate in ((1, 3e6), (2, 5e6)):
+# The speed target for the 10^4 bed, 2x LAMMPS, drawn across the range.
+for t, rate in ((t, 2 * rate) for name, t, rate in peers if name.startswith("LAMMPS")):
     for n in (1000, 1000000):
         rows.append((f"target, {t} thread{'s' if t > 1 else ''}", n, t, rate, 1e9 / rate, "", "", ""))
 with open(f"{out}/bed_scaling.csv", "w", newline="") as f:
