@@ -480,3 +480,40 @@ fn segment_ends(p: &ColliderPose, h: f64) -> (DVec3, DVec3) {
     let h = h * p.axis;
     (p.centre - h, p.centre + h)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The skin test's turn term is a true bound: a fibre turned about its
+    /// centre (no shift) moves its ends by `h |R(q) eₓ − R(q₀) eₓ|` (the
+    /// closed form of a rigid turn), and `√moved2` is at least that, for
+    /// turns about every kind of axis (across the fibre, along it, oblique)
+    /// from 10⁻³ rad to π/2. Without the turn term, or with `h²‖Δq‖²` in
+    /// place of `4h²‖Δq‖²`, a turn across the fibre escapes it.
+    #[test]
+    fn the_skin_test_bounds_a_turn_of_the_end_points() {
+        let (x, h) = (DVec3::new(0.1, -0.2, 0.3), 0.015);
+        let q0 = DQuat::from_euler(glam::EulerRot::ZYX, 0.3, -0.7, 1.1);
+        let reference = SkinRef::at(x, q0);
+        let mut turned_across = 0;
+        for k in 0..200 {
+            let angle = 1e-3 * (1.5708e3f64).powf(k as f64 / 199.0);
+            let phi = 0.61 * k as f64;
+            let n = DVec3::new(phi.cos(), phi.sin(), ((k % 7) as f64 - 3.0) / 3.0).normalize();
+            let q = DQuat::from_axis_angle(n, angle) * q0;
+            let a0 = crate::math::body_x_axis(q0);
+            let moved = h * (crate::math::body_x_axis(q) - a0).length();
+            let bound = reference.moved2(x, q, h).sqrt();
+            // The reference's f32 rounding: ~2⁻²⁴ of |x| and of h.
+            assert!(
+                bound >= moved - 1e-7,
+                "turn {angle} rad about {n}: bound {bound} m, end moved {moved} m"
+            );
+            if n.dot(q0 * DVec3::X).abs() < 0.5 && moved > 1e-5 {
+                turned_across += 1;
+            }
+        }
+        assert!(turned_across > 50, "{turned_across} turns across the fibre");
+    }
+}
